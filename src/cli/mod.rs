@@ -1,0 +1,84 @@
+//! Subcommands of the `nffrt` binary and the shared plumbing: loading scenes,
+//! reporting errors with their exit codes.
+
+mod info;
+mod load;
+
+use clap::{Parser, Subcommand};
+
+pub use load::{load_scene, LoadedScene};
+
+/// Exit codes, documented in the README.
+pub mod exit {
+    /// Success.
+    pub const OK: i32 = 0;
+    /// Command-line usage error (unknown option, bad value).
+    pub const USAGE: i32 = 2;
+    /// The scene file is malformed or unusable.
+    pub const BAD_SCENE: i32 = 3;
+    /// Reading or writing a file failed.
+    pub const IO: i32 = 4;
+    /// Interrupted by Ctrl-C or SIGTERM.
+    pub const INTERRUPTED: i32 = 130;
+}
+
+/// An error that ends the program: its message and exit code.
+#[derive(Debug)]
+pub struct CliError {
+    /// The one-line message (without the `nffrt: error:` prefix).
+    pub message: String,
+    /// The process exit code.
+    pub code: i32,
+}
+
+impl CliError {
+    /// An I/O failure.
+    pub fn io(message: impl Into<String>) -> Self {
+        CliError { message: message.into(), code: exit::IO }
+    }
+    /// A bad scene file.
+    pub fn scene(message: impl Into<String>) -> Self {
+        CliError { message: message.into(), code: exit::BAD_SCENE }
+    }
+    /// A bad combination of command-line values.
+    pub fn usage(message: impl Into<String>) -> Self {
+        CliError { message: message.into(), code: exit::USAGE }
+    }
+}
+
+/// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
+#[derive(Parser, Debug)]
+#[command(name = "nffrt", version, about, long_about = None)]
+#[command(after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
+Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
+    Info(info::InfoArgs),
+}
+
+/// Parses the command line, runs the subcommand, prints any error, returns the exit code.
+pub fn run() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { exit::USAGE } else { exit::OK };
+        }
+    };
+    let result = match cli.command {
+        Command::Info(a) => info::run(a),
+    };
+    match result {
+        Ok(()) => exit::OK,
+        Err(e) => {
+            eprintln!("nffrt: error: {}", e.message);
+            e.code
+        }
+    }
+}

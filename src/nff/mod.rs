@@ -1,0 +1,27 @@
+//! Reading and writing NFF (Neutral File Format) scenes.
+//!
+//! The accepted syntax (whitespace-separated tokens; line breaks carry no meaning;
+//! `#` starts a comment that runs to the end of the line):
+//!
+//! ```text
+//! v from x y z at x y z up x y z angle deg hither d resolution w h   camera
+//! b r g b                                background colour
+//! l x y z [r g b]                        point light
+//! f r g b Kd Ks shine T ior              material for the objects that follow
+//! s cx cy cz r                           sphere (r < 0: inside visible)
+//! c bx by bz br ax ay az ar              open cone / cylinder
+//! p n  x y z ...(n times)                polygon, convex or concave
+//! pp n x y z nx ny nz ...(n times)       polygonal patch with vertex normals
+//! pl x1 y1 z1 x2 y2 z2 x3 y3 z3          infinite plane (extension)
+//! aabb xmin xmax ymin ymax zmin zmax     axis-aligned box (extension)
+//! ```
+
+mod error;
+mod lexer;
+mod parser;
+mod writer;
+
+pub use error::{ParseError, ParseErrorKind};
+pub use lexer::{Lexer, Token};
+pub use parser::{parse, parse_bytes, MAX_RESOLUTION};
+pub use writer::write_nff;
