@@ -1,0 +1,165 @@
+//! Render-time geometry: every NFF primitive converted into a form that is quick to
+//! intersect, plus the two-phase query used by the acceleration structure.
+//!
+//! Phase one, in the traversal loop: [`Primitive::intersect`] returns only the hit
+//! distance and two surface parameters ([`Hit`]). Phase two, once for the winner:
+//! [`Primitive::surface`] computes the point and normals ([`Surface`]).
+//!
+//! Conventions shared by every shape:
+//! - surfaces are two-sided (a hit from either side counts), except spheres and cones
+//!   marked inside-only (negative radii), which report only hits where the ray travels
+//!   from the inside outwards (`dot(dir, outward normal) > 0`);
+//! - `intersect` returns the nearest hit with `0 < t < t_max`, never a NaN `t`;
+//! - `Surface::normal` is the primitive's own unit normal (outward for spheres and
+//!   cones, inward for inside-only ones; from the vertex winding for polygons); the
+//!   shader flips it to face the ray. `shading_normal` is the interpolated normal for
+//!   patches (unit, on the same side as `normal`) and equals `normal` otherwise.
+
+pub mod aabb_box;
+pub mod cone;
+mod convert;
+pub mod plane;
+pub mod polygon;
+pub mod sphere;
+pub mod triangle;
+
+use crate::math::{Aabb, Ray, Vec3};
+
+pub use aabb_box::BoxShape;
+pub use cone::ConeShape;
+pub use convert::build_geometry;
+pub use plane::PlaneShape;
+pub use polygon::PolygonShape;
+pub use sphere::SphereShape;
+pub use triangle::Triangle;
+
+/// The result of phase one: where along the ray, and surface parameters
+/// (barycentric `u`, `v` for triangles; unused by other shapes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit, `0 < t < t_max`.
+    pub t: f32,
+    /// First surface parameter (barycentric weight of vertex 1 for triangles).
+    pub u: f32,
+    /// Second surface parameter (barycentric weight of vertex 2 for triangles).
+    pub v: f32,
+}
+
+/// The result of phase two: the hit point and its normals (world space, unit length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// The hit point.
+    pub point: Vec3,
+    /// The primitive's geometric normal (see the module docs for its side).
+    pub normal: Vec3,
+    /// The normal to shade with (interpolated on patches).
+    pub shading_normal: Vec3,
+}
+
+/// Shared arrays that some shapes index into instead of owning heap data.
+#[derive(Clone, Debug, Default)]
+pub struct GeometryData {
+    /// Polygon vertices projected onto each polygon's dominant plane (see [`PolygonShape`]).
+    pub polygon_points_2d: Vec<[f32; 2]>,
+    /// Vertex normals of patch triangles, three consecutive entries per triangle.
+    pub patch_normals: Vec<Vec3>,
+}
+
+/// The shape of one render-time primitive.
+#[derive(Clone, Copy, Debug)]
+pub enum Shape {
+    /// A sphere.
+    Sphere(SphereShape),
+    /// A triangle (from a `p 3`, a convex polygon's fan, or a patch).
+    Triangle(Triangle),
+    /// A general (concave) polygon tested by crossings in its dominant plane.
+    Polygon(PolygonShape),
+    /// An open cone or cylinder.
+    Cone(ConeShape),
+    /// An infinite plane (unbounded: kept outside the BVH).
+    Plane(PlaneShape),
+    /// A solid axis-aligned box.
+    Box(BoxShape),
+}
+
+/// Which NFF entity a primitive came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SourceKind {
+    /// `s`
+    Sphere,
+    /// `p`
+    Polygon,
+    /// `pp`
+    Patch,
+    /// `c`
+    Cone,
+    /// `pl`
+    Plane,
+    /// `aabb`
+    Box,
+}
+
+/// One render-time primitive: its shape, material and provenance.
+#[derive(Clone, Copy, Debug)]
+pub struct Primitive {
+    /// The geometry.
+    pub shape: Shape,
+    /// Index into the scene's material table.
+    pub material: u32,
+    /// Line of the NFF entity it came from.
+    pub line: u32,
+    /// Kind of the NFF entity it came from.
+    pub kind: SourceKind,
+}
+
+const _: () = assert!(std::mem::size_of::<Primitive>() <= 64);
+
+impl Primitive {
+    /// Bounding box; `None` for unbounded shapes (planes).
+    #[inline]
+    pub fn bounds(&self, data: &GeometryData) -> Option<Aabb> {
+        match &self.shape {
+            Shape::Sphere(s) => Some(s.bounds()),
+            Shape::Triangle(s) => Some(s.bounds()),
+            Shape::Polygon(s) => Some(s.bounds(data)),
+            Shape::Cone(s) => Some(s.bounds()),
+            Shape::Plane(_) => None,
+            Shape::Box(s) => Some(s.bounds()),
+        }
+    }
+
+    /// Phase one: the nearest hit with `0 < t < t_max`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32, data: &GeometryData) -> Option<Hit> {
+        match &self.shape {
+            Shape::Sphere(s) => s.intersect(ray, t_max),
+            Shape::Triangle(s) => s.intersect(ray, t_max),
+            Shape::Polygon(s) => s.intersect(ray, t_max, data),
+            Shape::Cone(s) => s.intersect(ray, t_max),
+            Shape::Plane(s) => s.intersect(ray, t_max),
+            Shape::Box(s) => s.intersect(ray, t_max),
+        }
+    }
+
+    /// Phase two: point and normals of a hit returned by [`Primitive::intersect`].
+    #[inline]
+    pub fn surface(&self, ray: &Ray, hit: &Hit, data: &GeometryData) -> Surface {
+        match &self.shape {
+            Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::Triangle(s) => s.surface(ray, hit, data),
+            Shape::Polygon(s) => s.surface(ray, hit),
+            Shape::Cone(s) => s.surface(ray, hit),
+            Shape::Plane(s) => s.surface(ray, hit),
+            Shape::Box(s) => s.surface(ray, hit),
+        }
+    }
+}
+
+/// A scene's render-time geometry.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    /// All primitives (bounded and unbounded).
+    pub primitives: Vec<Primitive>,
+    /// Shared arrays the primitives index into.
+    pub data: GeometryData,
+}
