@@ -1,20 +1,30 @@
 //! # nffrt — a fast, correct Whitted ray tracer for NFF scenes
 //!
 //! NFF (Eric Haines' Neutral File Format) is the scene format of the Standard
-//! Procedural Databases. This crate parses it ([`nff`]), describes the scene
-//! ([`scene`]) and renders it.
+//! Procedural Databases. The pipeline: [`nff::parse`] text into a [`Scene`];
+//! [`geometry::build_geometry`] converts it into render-time primitives;
+//! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
+//! [`image`] encodes it.
 //!
 //! ```
+//! use nffrt::{accel::Bvh, geometry::build_geometry, render::{render, RenderOptions}};
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
-//!                                f 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
-//! assert_eq!(scene.spheres[0].radius, 1.0);
+//!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
+//! let bvh = Bvh::new(build_geometry(&scene));
+//! let (image, stats) = render(&scene, &bvh, &RenderOptions::from_scene(&scene));
+//! assert_eq!(stats.eye_rays, 64);
+//! assert!(image.get(4, 4).x > 0.5); // the sphere fills the centre
 //! ```
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod accel;
+pub mod geometry;
+pub mod image;
 pub mod math;
 pub mod nff;
+pub mod render;
 pub mod scene;
 
 pub use scene::Scene;

@@ -3,10 +3,12 @@
 
 mod info;
 mod load;
+mod output;
+mod render;
 
 use clap::{Parser, Subcommand};
 
-pub use load::{load_scene, LoadedScene};
+pub use load::load_scene;
 
 /// Exit codes, documented in the README.
 pub mod exit {
@@ -34,23 +36,34 @@ pub struct CliError {
 impl CliError {
     /// An I/O failure.
     pub fn io(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::IO }
+        CliError {
+            message: message.into(),
+            code: exit::IO,
+        }
     }
     /// A bad scene file.
     pub fn scene(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::BAD_SCENE }
+        CliError {
+            message: message.into(),
+            code: exit::BAD_SCENE,
+        }
     }
     /// A bad combination of command-line values.
     pub fn usage(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::USAGE }
+        CliError {
+            message: message.into(),
+            code: exit::USAGE,
+        }
     }
 }
 
 /// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None)]
-#[command(after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats")]
+#[command(
+    after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
+Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -60,6 +73,8 @@ struct Cli {
 enum Command {
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
+    /// Render a scene to an image (PNG, PPM or PFM).
+    Render(render::RenderArgs),
 }
 
 /// Parses the command line, runs the subcommand, prints any error, returns the exit code.
@@ -73,6 +88,7 @@ pub fn run() -> i32 {
     };
     let result = match cli.command {
         Command::Info(a) => info::run(a),
+        Command::Render(a) => render::run(a),
     };
     match result {
         Ok(()) => exit::OK,

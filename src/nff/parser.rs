@@ -83,13 +83,21 @@ impl<'a> Parser<'a> {
             }
         }
         if !self.saw_view {
-            self.warn((1, 1), "no 'v' block: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)".into());
+            self.warn(
+                (1, 1),
+                "no 'v' block: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)"
+                    .into(),
+            );
         }
         Ok(())
     }
 
     fn warn(&mut self, at: Loc, message: String) {
-        self.scene.warnings.push(Warning { line: at.0, column: at.1, message });
+        self.scene.warnings.push(Warning {
+            line: at.0,
+            column: at.1,
+            message,
+        });
     }
 
     fn expected(&self, tok: Option<Token>, expected: &str) -> ParseError {
@@ -97,7 +105,13 @@ impl<'a> Parser<'a> {
             Some(t) => (loc(&t), t.quoted()),
             None => (self.lexer.end_location(), "end of file".to_string()),
         };
-        err(at, ParseErrorKind::Expected { expected: expected.to_string(), found })
+        err(
+            at,
+            ParseErrorKind::Expected {
+                expected: expected.to_string(),
+                found,
+            },
+        )
     }
 
     /// Reads one finite number; `what` names it in the error message.
@@ -111,7 +125,11 @@ impl<'a> Parser<'a> {
     }
 
     fn vec3(&mut self, what: &str) -> Result<Vec3, ParseError> {
-        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+        Ok(Vec3::new(
+            self.number(what)?,
+            self.number(what)?,
+            self.number(what)?,
+        ))
     }
 
     /// Reads a non-negative integer count.
@@ -123,7 +141,10 @@ impl<'a> Parser<'a> {
         if t.text.is_empty() || !t.text.iter().all(u8::is_ascii_digit) {
             return Err(self.expected(tok, &format!("a non-negative whole number ({what})")));
         }
-        match std::str::from_utf8(t.text).ok().and_then(|s| s.parse::<u32>().ok()) {
+        match std::str::from_utf8(t.text)
+            .ok()
+            .and_then(|s| s.parse::<u32>().ok())
+        {
             Some(n) => Ok((n, loc(&t))),
             None => Err(invalid(loc(&t), format!("{what} {} is too large", t.quoted()))),
         }
@@ -135,7 +156,10 @@ impl<'a> Parser<'a> {
         if let Some(m) = self.material {
             return m;
         }
-        self.warn(at, "object before any 'f': using the default material (f 1 1 1 1 0 1 0 1)".into());
+        self.warn(
+            at,
+            "object before any 'f': using the default material (f 1 1 1 1 0 1 0 1)".into(),
+        );
         self.scene.materials.push(Material::DEFAULT);
         let m = (self.scene.materials.len() - 1) as u32;
         self.material = Some(m);
@@ -171,7 +195,10 @@ impl<'a> Parser<'a> {
                     let (h, hl) = self.count("'resolution' height")?;
                     for (n, l) in [(w, wl), (h, hl)] {
                         if n == 0 || n > MAX_RESOLUTION {
-                            return Err(invalid(l, format!("resolution {n} is outside 1..={MAX_RESOLUTION}")));
+                            return Err(invalid(
+                                l,
+                                format!("resolution {n} is outside 1..={MAX_RESOLUTION}"),
+                            ));
                         }
                     }
                     (v.width, v.height) = (w, h);
@@ -184,7 +211,10 @@ impl<'a> Parser<'a> {
         v.up = up.ok_or_else(|| missing("up"))?;
         let (angle, angle_at) = angle.ok_or_else(|| missing("angle"))?;
         if !(angle > 0.0 && angle < 180.0) {
-            return Err(invalid(angle_at, format!("camera angle {angle} is outside (0, 180) degrees")));
+            return Err(invalid(
+                angle_at,
+                format!("camera angle {angle} is outside (0, 180) degrees"),
+            ));
         }
         v.angle = angle;
         let dir = v.at - v.from;
@@ -192,7 +222,10 @@ impl<'a> Parser<'a> {
             return Err(invalid(at, "camera 'from' and 'at' are the same point"));
         }
         if dir.normalize().cross(v.up.normalize()).length_squared() < 1e-12 {
-            return Err(invalid(at, "camera 'up' is zero or parallel to the viewing direction"));
+            return Err(invalid(
+                at,
+                "camera 'up' is zero or parallel to the viewing direction",
+            ));
         }
         self.scene.view = v;
         Ok(())
@@ -247,7 +280,12 @@ impl<'a> Parser<'a> {
             self.warn(loc(kw), "sphere of radius 0 skipped".into());
             return Ok(());
         }
-        self.scene.spheres.push(Sphere { center, radius, material, line: kw.line });
+        self.scene.spheres.push(Sphere {
+            center,
+            radius,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -267,9 +305,19 @@ impl<'a> Parser<'a> {
             return Ok(());
         }
         if (base_radius < 0.0) != (apex_radius < 0.0) && base_radius != 0.0 && apex_radius != 0.0 {
-            self.warn(loc(kw), "cone radii of opposite signs: treated as an outside-visible cone".into());
+            self.warn(
+                loc(kw),
+                "cone radii of opposite signs: treated as an outside-visible cone".into(),
+            );
         }
-        self.scene.cones.push(Cone { base, base_radius, apex, apex_radius, material, line: kw.line });
+        self.scene.cones.push(Cone {
+            base,
+            base_radius,
+            apex,
+            apex_radius,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -277,7 +325,10 @@ impl<'a> Parser<'a> {
     fn polygon(&mut self, kw: &Token) -> Result<(), ParseError> {
         let (n, n_at) = self.count("polygon vertex count")?;
         if n < 3 {
-            return Err(invalid(n_at, format!("a polygon needs at least 3 vertices, not {n}")));
+            return Err(invalid(
+                n_at,
+                format!("a polygon needs at least 3 vertices, not {n}"),
+            ));
         }
         let first = self.scene.polygon_vertices.len();
         // No reservation from `n`: a huge count fails at the end of the file, not in the allocator.
@@ -288,11 +339,19 @@ impl<'a> Parser<'a> {
         let material = self.current_material(loc(kw));
         if is_degenerate(&self.scene.polygon_vertices[first..]) {
             self.scene.polygon_vertices.truncate(first);
-            self.warn(loc(kw), "polygon with no area (collinear or coincident vertices) skipped".into());
+            self.warn(
+                loc(kw),
+                "polygon with no area (collinear or coincident vertices) skipped".into(),
+            );
             return Ok(());
         }
         let first = index_u32(first, loc(kw))?;
-        self.scene.polygons.push(Polygon { first, count: n, material, line: kw.line });
+        self.scene.polygons.push(Polygon {
+            first,
+            count: n,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -300,7 +359,10 @@ impl<'a> Parser<'a> {
     fn patch(&mut self, kw: &Token) -> Result<(), ParseError> {
         let (n, n_at) = self.count("patch vertex count")?;
         if n < 3 {
-            return Err(invalid(n_at, format!("a patch needs at least 3 vertices, not {n}")));
+            return Err(invalid(
+                n_at,
+                format!("a patch needs at least 3 vertices, not {n}"),
+            ));
         }
         let first = self.scene.patch_vertices.len();
         for _ in 0..n {
@@ -313,11 +375,19 @@ impl<'a> Parser<'a> {
         if is_degenerate(&self.scene.patch_vertices[first..]) {
             self.scene.patch_vertices.truncate(first);
             self.scene.patch_normals.truncate(first);
-            self.warn(loc(kw), "patch with no area (collinear or coincident vertices) skipped".into());
+            self.warn(
+                loc(kw),
+                "patch with no area (collinear or coincident vertices) skipped".into(),
+            );
             return Ok(());
         }
         let first = index_u32(first, loc(kw))?;
-        self.scene.patches.push(Patch { first, count: n, material, line: kw.line });
+        self.scene.patches.push(Patch {
+            first,
+            count: n,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -333,7 +403,11 @@ impl<'a> Parser<'a> {
             self.warn(loc(kw), "plane through collinear points skipped".into());
             return Ok(());
         }
-        self.scene.planes.push(Plane { points, material, line: kw.line });
+        self.scene.planes.push(Plane {
+            points,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -348,9 +422,17 @@ impl<'a> Parser<'a> {
         let material = self.current_material(loc(kw));
         let (min, max) = (Vec3::from_array(lo), Vec3::from_array(hi));
         if lo.iter().zip(&hi).any(|(a, b)| a > b) {
-            self.warn(loc(kw), "box with a minimum above its maximum: limits swapped".into());
+            self.warn(
+                loc(kw),
+                "box with a minimum above its maximum: limits swapped".into(),
+            );
         }
-        self.scene.boxes.push(BoxPrim { min: min.min(max), max: min.max(max), material, line: kw.line });
+        self.scene.boxes.push(BoxPrim {
+            min: min.min(max),
+            max: min.max(max),
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 }
@@ -411,7 +493,14 @@ mod tests {
         assert_eq!(s.lights[0].color, None);
         assert_eq!(s.lights[1].color, Some(Vec3::splat(0.5)));
         assert_eq!(
-            (s.spheres.len(), s.cones.len(), s.polygons.len(), s.patches.len(), s.planes.len(), s.boxes.len()),
+            (
+                s.spheres.len(),
+                s.cones.len(),
+                s.polygons.len(),
+                s.patches.len(),
+                s.planes.len(),
+                s.boxes.len()
+            ),
             (1, 1, 1, 1, 1, 1)
         );
         assert_eq!(s.boxes[0].min, Vec3::new(-1.0, -2.0, -3.0));

@@ -1,0 +1,301 @@
+//! The BVH over a scene's primitives and its two queries, `closest_hit` and `occluded`.
+
+use super::build;
+use super::node::BvhNode;
+use crate::geometry::{Geometry, GeometryData, Hit, Primitive};
+use crate::math::{Ray, Vec3};
+
+/// Traversal stack size; the builder keeps the tree shallower than this.
+const STACK_SIZE: usize = 128;
+
+/// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
+/// (planes) kept beside it and tested linearly.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<BvhNode>,
+    /// Bounded primitives in leaf order, then the unbounded ones.
+    primitives: Vec<Primitive>,
+    bounded: usize,
+    data: GeometryData,
+    depth: u32,
+}
+
+/// Shape statistics of a built BVH (for `info --bvh` and benchmarks).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct BvhStats {
+    /// Number of nodes.
+    pub nodes: usize,
+    /// Number of leaves.
+    pub leaves: usize,
+    /// Depth of the deepest leaf (root = 1).
+    pub depth: u32,
+    /// Smallest leaf size.
+    pub min_leaf: u32,
+    /// Largest leaf size.
+    pub max_leaf: u32,
+    /// Mean leaf size.
+    pub mean_leaf: f64,
+    /// SAH cost: expected node visits plus primitive tests for a random ray that hits
+    /// the root box (traversal and intersection weighted 1 each).
+    pub sah_cost: f64,
+    /// Bounded primitives in the tree.
+    pub primitives: usize,
+    /// Unbounded primitives tested beside it.
+    pub unbounded: usize,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `geometry`, reordering its bounded primitives into
+    /// leaf order.
+    pub fn new(geometry: Geometry) -> Bvh {
+        let Geometry { primitives, data } = geometry;
+        let (mut bounded, mut bounds, mut unbounded) = (Vec::new(), Vec::new(), Vec::new());
+        for p in primitives {
+            match p.bounds(&data) {
+                Some(b) => {
+                    bounded.push(p);
+                    bounds.push(b);
+                }
+                None => unbounded.push(p),
+            }
+        }
+        let built = build::build(&bounds);
+        let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
+        let n_bounded = ordered.len();
+        ordered.extend(unbounded);
+        Bvh {
+            nodes: built.nodes,
+            primitives: ordered,
+            bounded: n_bounded,
+            data,
+            depth: built.depth,
+        }
+    }
+
+    /// Primitive `index` as returned by the queries.
+    #[inline]
+    pub fn primitive(&self, index: u32) -> &Primitive {
+        &self.primitives[index as usize]
+    }
+
+    /// All primitives: bounded ones in leaf order, then unbounded ones.
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    /// The shared geometry arrays.
+    pub fn data(&self) -> &GeometryData {
+        &self.data
+    }
+
+    /// The flattened nodes (root at 0).
+    pub fn nodes(&self) -> &[BvhNode] {
+        &self.nodes
+    }
+
+    /// The nearest hit with `0 < t < t_max`, and the index of the primitive hit.
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
+        let mut best: Option<(Hit, u32)> = None;
+        let mut t_best = t_max;
+        for (i, p) in self.primitives[self.bounded..].iter().enumerate() {
+            if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                t_best = h.t;
+                best = Some((h, (self.bounded + i) as u32));
+            }
+        }
+        if self.bounded == 0 {
+            return best;
+        }
+        let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+        let mut sp = 0;
+        let Some(t_root) = self.nodes[0].bounds().hit(ray, t_best) else {
+            return best;
+        };
+        stack[sp] = (0, t_root);
+        sp += 1;
+        while sp > 0 {
+            sp -= 1;
+            let (mut index, t_entry) = stack[sp];
+            if t_entry >= t_best {
+                continue;
+            }
+            loop {
+                let node = &self.nodes[index as usize];
+                if node.is_leaf() {
+                    let first = node.first as usize;
+                    for (k, p) in self.primitives[first..first + node.count as usize]
+                        .iter()
+                        .enumerate()
+                    {
+                        if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                            t_best = h.t;
+                            best = Some((h, (first + k) as u32));
+                        }
+                    }
+                    break;
+                }
+                let (l, r) = (node.first, node.first + 1);
+                let tl = self.nodes[l as usize].bounds().hit(ray, t_best);
+                let tr = self.nodes[r as usize].bounds().hit(ray, t_best);
+                index = match (tl, tr) {
+                    (Some(a), Some(b)) => {
+                        let (near, far, t_far) = if a <= b { (l, r, b) } else { (r, l, a) };
+                        stack[sp] = (far, t_far);
+                        sp += 1;
+                        near
+                    }
+                    (Some(_), None) => l,
+                    (None, Some(_)) => r,
+                    (None, None) => break,
+                };
+            }
+        }
+        best
+    }
+
+    /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.primitives[self.bounded..]
+            .iter()
+            .any(|p| p.intersect(ray, t_max, &self.data).is_some())
+        {
+            return true;
+        }
+        if self.bounded == 0 || self.nodes[0].bounds().hit(ray, t_max).is_none() {
+            return false;
+        }
+        let mut stack = [0u32; STACK_SIZE];
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let mut index = stack[sp];
+            loop {
+                let node = &self.nodes[index as usize];
+                if node.is_leaf() {
+                    let first = node.first as usize;
+                    let leaf = &self.primitives[first..first + node.count as usize];
+                    if leaf.iter().any(|p| p.intersect(ray, t_max, &self.data).is_some()) {
+                        return true;
+                    }
+                    break;
+                }
+                let (l, r) = (node.first, node.first + 1);
+                let hl = self.nodes[l as usize].bounds().hit(ray, t_max).is_some();
+                let hr = self.nodes[r as usize].bounds().hit(ray, t_max).is_some();
+                index = match (hl, hr) {
+                    (true, true) => {
+                        stack[sp] = r;
+                        sp += 1;
+                        l
+                    }
+                    (true, false) => l,
+                    (false, true) => r,
+                    (false, false) => break,
+                };
+            }
+        }
+        false
+    }
+
+    /// Reference query: tests every primitive (for tests and validation only).
+    pub fn closest_hit_linear(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
+        let mut best = None;
+        let mut t_best = t_max;
+        for (i, p) in self.primitives.iter().enumerate() {
+            if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                t_best = h.t;
+                best = Some((h, i as u32));
+            }
+        }
+        best
+    }
+
+    /// Checks the structural invariants: every bounded primitive in exactly one leaf,
+    /// every child box inside its parent, every primitive box inside its leaf, depth
+    /// within the traversal stack. Returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.depth as usize >= STACK_SIZE {
+            return Err(format!("depth {} exceeds the stack", self.depth));
+        }
+        let mut seen = vec![0u8; self.bounded];
+        if self.bounded > 0 {
+            self.validate_node(0, &mut seen)?;
+        }
+        match seen.iter().position(|&c| c != 1) {
+            Some(i) => Err(format!("primitive {i} is reached {} times", seen[i])),
+            None => Ok(()),
+        }
+    }
+
+    fn validate_node(&self, index: usize, seen: &mut [u8]) -> Result<(), String> {
+        let node = &self.nodes[index];
+        let b = node.bounds();
+        if node.is_leaf() {
+            for i in node.first as usize..(node.first + node.count) as usize {
+                let pb = self.primitives[i]
+                    .bounds(&self.data)
+                    .ok_or("unbounded primitive in a leaf")?;
+                if !b.contains(&pb) {
+                    return Err(format!("primitive {i} sticks out of leaf {index}"));
+                }
+                seen[i] = seen[i].saturating_add(1);
+            }
+            return Ok(());
+        }
+        for c in [node.first as usize, node.first as usize + 1] {
+            if c <= index || c >= self.nodes.len() {
+                return Err(format!("node {index} has a bad child {c}"));
+            }
+            if !b.contains(&self.nodes[c].bounds()) {
+                return Err(format!("child {c} sticks out of node {index}"));
+            }
+            self.validate_node(c, seen)?;
+        }
+        Ok(())
+    }
+
+    /// Node counts, depth, leaf sizes and SAH cost.
+    pub fn stats(&self) -> BvhStats {
+        let mut s = BvhStats {
+            nodes: if self.bounded == 0 { 0 } else { self.nodes.len() },
+            leaves: 0,
+            depth: if self.bounded == 0 { 0 } else { self.depth },
+            min_leaf: u32::MAX,
+            max_leaf: 0,
+            mean_leaf: 0.0,
+            sah_cost: 0.0,
+            primitives: self.bounded,
+            unbounded: self.primitives.len() - self.bounded,
+        };
+        if self.bounded == 0 {
+            s.min_leaf = 0;
+            return s;
+        }
+        let root_area = self.nodes[0].bounds().surface_area().max(f32::MIN_POSITIVE) as f64;
+        for n in &self.nodes {
+            let rel = n.bounds().surface_area() as f64 / root_area;
+            if n.is_leaf() {
+                s.leaves += 1;
+                s.min_leaf = s.min_leaf.min(n.count);
+                s.max_leaf = s.max_leaf.max(n.count);
+                s.sah_cost += rel * n.count as f64;
+            } else {
+                s.sah_cost += rel;
+            }
+        }
+        s.mean_leaf = self.bounded as f64 / s.leaves as f64;
+        s
+    }
+
+    /// Bounding box of the bounded primitives, as (min, max); `None` if there are none.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        (self.bounded > 0).then(|| {
+            (
+                Vec3::from_array(self.nodes[0].min),
+                Vec3::from_array(self.nodes[0].max),
+            )
+        })
+    }
+}

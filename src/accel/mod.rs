@@ -1,0 +1,10 @@
+//! Acceleration: a bounding volume hierarchy over the bounded primitives, built with
+//! the binned surface area heuristic and flattened into 32-byte nodes; unbounded
+//! primitives (planes) are tested beside it.
+
+mod build;
+mod bvh;
+mod node;
+
+pub use bvh::{Bvh, BvhStats};
+pub use node::BvhNode;
