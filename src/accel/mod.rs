@@ -8,3 +8,6 @@ mod node;
 
 pub use bvh::{Bvh, BvhStats};
 pub use node::BvhNode;
+
+#[cfg(test)]
+mod tests;

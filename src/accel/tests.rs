@@ -1,0 +1,127 @@
+//! BVH tests: structural validation on edge cases, and closest-hit / occlusion
+//! agreement with the brute-force scan on random scenes and rays.
+
+use super::Bvh;
+use crate::geometry::build_geometry;
+use crate::math::{Ray, Vec3};
+use crate::scene::{Material, Polygon, Scene, Sphere};
+use proptest::prelude::*;
+
+fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
+    let mut s = Scene {
+        materials: vec![Material::DEFAULT],
+        ..Scene::default()
+    };
+    for &(center, radius) in spheres {
+        s.spheres.push(Sphere {
+            center,
+            radius,
+            material: 0,
+            line: 1,
+        });
+    }
+    for t in triangles {
+        let first = s.polygon_vertices.len() as u32;
+        s.polygon_vertices.extend_from_slice(t);
+        s.polygons.push(Polygon {
+            first,
+            count: 3,
+            material: 0,
+            line: 1,
+        });
+    }
+    s
+}
+
+fn bvh_of(scene: &Scene) -> Bvh {
+    let bvh = Bvh::new(build_geometry(scene));
+    bvh.validate().unwrap();
+    bvh
+}
+
+#[test]
+fn empty_scene_has_no_hits() {
+    let bvh = bvh_of(&Scene::default());
+    let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0));
+    assert!(bvh.closest_hit(&r, f32::INFINITY).is_none());
+    assert!(!bvh.occluded(&r, f32::INFINITY));
+    assert_eq!(bvh.stats().nodes, 0);
+}
+
+#[test]
+fn single_sphere_is_hit_at_the_analytic_distance() {
+    let bvh = bvh_of(&scene_with(&[(Vec3::new(0.0, 0.0, 5.0), 1.0)], &[]));
+    let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0));
+    let (hit, _) = bvh.closest_hit(&r, f32::INFINITY).unwrap();
+    assert!((hit.t - 4.0).abs() < 1e-5);
+    assert!(bvh.occluded(&r, 10.0));
+    assert!(!bvh.occluded(&r, 3.9));
+}
+
+#[test]
+fn coincident_primitives_still_build_a_valid_shallow_tree() {
+    let spheres: Vec<_> = (0..1000).map(|_| (Vec3::splat(1.0), 0.5)).collect();
+    let bvh = bvh_of(&scene_with(&spheres, &[]));
+    let st = bvh.stats();
+    assert!(st.depth <= 12, "depth {}", st.depth);
+    assert!(st.max_leaf as usize <= super::build::MAX_LEAF);
+}
+
+#[test]
+fn degenerate_flat_boxes_are_handled() {
+    // Axis-aligned triangles have zero-thickness boxes.
+    let tris: Vec<[Vec3; 3]> = (0..200)
+        .map(|i| {
+            let x = i as f32 * 0.1;
+            [
+                Vec3::new(x, 0.0, 0.0),
+                Vec3::new(x + 0.1, 0.0, 0.0),
+                Vec3::new(x, 1.0, 0.0),
+            ]
+        })
+        .collect();
+    let bvh = bvh_of(&scene_with(&[], &tris));
+    let r = Ray::new(Vec3::new(5.02, 0.5, 1.0), Vec3::new(0.0, 0.0, -1.0));
+    let (hit, _) = bvh.closest_hit(&r, f32::INFINITY).unwrap();
+    assert!((hit.t - 1.0).abs() < 1e-6);
+}
+
+fn v3(range: f32) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+fn unit() -> impl Strategy<Value = Vec3> {
+    v3(1.0)
+        .prop_filter("non-zero", |v| v.length() > 0.1)
+        .prop_map(Vec3::normalize)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn bvh_agrees_with_brute_force(
+        spheres in prop::collection::vec((v3(10.0), 0.05f32..2.0), 0..60),
+        tris in prop::collection::vec((v3(10.0), v3(2.0), v3(2.0)), 0..60),
+        rays in prop::collection::vec((v3(15.0), unit()), 1..40),
+    ) {
+        let tris: Vec<[Vec3; 3]> = tris.iter().map(|&(a, d1, d2)| [a, a + d1, a + d2]).collect();
+        let scene = scene_with(&spheres, &tris);
+        let bvh = Bvh::new(build_geometry(&scene));
+        prop_assert!(bvh.validate().is_ok());
+        for (o, d) in rays {
+            let r = Ray::new(o, d);
+            let fast = bvh.closest_hit(&r, f32::INFINITY);
+            let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
+            prop_assert_eq!(fast.is_some(), slow.is_some());
+            if let (Some((a, _)), Some((b, _))) = (fast, slow) {
+                prop_assert!((a.t - b.t).abs() <= 1e-6 * a.t.max(1.0), "{} vs {}", a.t, b.t);
+                prop_assert!(a.t > 0.0 && a.t.is_finite());
+            }
+            for t_max in [1.0f32, 5.0, f32::INFINITY] {
+                let any = bvh.closest_hit_linear(&r, t_max).is_some();
+                prop_assert_eq!(bvh.occluded(&r, t_max), any);
+            }
+        }
+    }
+}
