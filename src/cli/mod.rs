@@ -1,6 +1,7 @@
 //! Subcommands of the `nffrt` binary and the shared plumbing: loading scenes,
 //! reporting errors with their exit codes.
 
+mod bench;
 mod info;
 mod load;
 mod output;
@@ -75,6 +76,9 @@ enum Command {
     Info(info::InfoArgs),
     /// Render a scene to an image (PNG, PPM or PFM).
     Render(render::RenderArgs),
+    /// Time the acceleration structure alone: closest-hit and occlusion queries on
+    /// primary, random and file-supplied rays (no shading).
+    Bench(bench::BenchArgs),
 }
 
 /// Parses the command line, runs the subcommand, prints any error, returns the exit code.
@@ -89,6 +93,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Command::Info(a) => info::run(a),
         Command::Render(a) => render::run(a),
+        Command::Bench(a) => bench::run(a),
     };
     match result {
         Ok(()) => exit::OK,

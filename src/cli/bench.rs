@@ -1,0 +1,187 @@
+//! `nffrt bench`: times the acceleration structure alone (no shading) on primary,
+//! random and file-supplied rays, for comparison with other ray tracing kernels.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use rayon::prelude::*;
+
+use super::load::load_scene;
+use super::CliError;
+use nffrt::accel::Bvh;
+use nffrt::geometry::build_geometry;
+use nffrt::math::{Ray, Vec3};
+use nffrt::render::Camera;
+
+/// Arguments of `nffrt bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene file (NFF); `-` reads standard input.
+    pub scene: PathBuf,
+    /// Also trace the rays in FILE: raw little-endian float32 rows `ox oy oz dx dy dz`
+    /// (as written by `embree_anchor.py --dump-rays`).
+    #[arg(long, value_name = "FILE")]
+    pub rays: Option<PathBuf>,
+    /// Worker threads for the timed queries.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: u32,
+    /// Timed passes per query; the median is reported.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub repeat: u32,
+    /// Random rays to trace (default: width x height of the scene).
+    #[arg(long)]
+    pub random: Option<usize>,
+    /// Seed of the random ray set.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// Median and best timing of one query over one ray set.
+struct Timing {
+    hits: usize,
+    median_mrays: f64,
+    best_mrays: f64,
+}
+
+/// Runs `nffrt bench`.
+pub fn run(args: BenchArgs) -> Result<(), CliError> {
+    let loaded = load_scene(&args.scene)?;
+    let scene = &loaded.scene;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads as usize)
+        .build()
+        .map_err(|e| CliError::io(format!("cannot start threads: {e}")))?;
+
+    let mut builds = Vec::new();
+    let mut bvh = None;
+    for _ in 0..args.repeat.max(3) {
+        let t0 = Instant::now();
+        let b = pool.install(|| Bvh::new(build_geometry(scene)));
+        builds.push(t0.elapsed().as_secs_f64() * 1e3);
+        bvh = Some(b);
+    }
+    let bvh = bvh.expect("at least one build");
+    let build_ms = median(&mut builds);
+    let st = bvh.stats();
+    println!(
+        "{}: {} primitives, build {:.2} ms (median), {} nodes, depth {}, leaves {:.2} prims avg, SAH cost {:.2}",
+        loaded.name, st.primitives, build_ms, st.nodes, st.depth, st.mean_leaf, st.sah_cost
+    );
+
+    let (w, h) = (scene.view.width, scene.view.height);
+    let camera = Camera::new(&scene.view, w, h);
+    let primary: Vec<Ray> =
+        (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5)).collect();
+    let random = random_rays(&bvh, args.random.unwrap_or((w * h) as usize), args.seed);
+
+    let mut summary = vec![format!("build_ms={build_ms:.3}"), format!("sah_cost={:.3}", st.sah_cost)];
+    let mut sets = vec![("primary", primary), ("random", random)];
+    if let Some(path) = &args.rays {
+        sets.push(("rays", read_rays(path)?));
+    }
+    for (name, rays) in &sets {
+        let closest = time_query(&pool, rays, args.repeat, |r| bvh.closest_hit(r, f32::INFINITY).is_some());
+        let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
+        println!(
+            "{name:>8}: {} rays, {} hits; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
+            rays.len(),
+            closest.hits,
+            closest.median_mrays,
+            closest.best_mrays,
+            occl.median_mrays,
+            occl.best_mrays,
+            occl.hits
+        );
+        summary.push(format!("{name}_mrays={:.3}", closest.median_mrays));
+        summary.push(format!("{name}_occl_mrays={:.3}", occl.median_mrays));
+        summary.push(format!("{name}_hits={}", closest.hits));
+    }
+    summary.push(format!("threads={}", args.threads));
+    println!("{}", summary.join(" "));
+    Ok(())
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Traces every ray once to warm up, then `repeat` timed passes.
+fn time_query(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, query: impl Fn(&Ray) -> bool + Sync) -> Timing {
+    let pass = || -> usize {
+        pool.install(|| {
+            rays.par_chunks(4096).map(|c| c.iter().filter(|r| query(r)).count()).sum::<usize>()
+        })
+    };
+    let hits = pass();
+    let mut rates: Vec<f64> = (0..repeat)
+        .map(|_| {
+            let t0 = Instant::now();
+            let n = pass();
+            debug_assert_eq!(n, hits);
+            rays.len() as f64 / t0.elapsed().as_secs_f64() / 1e6
+        })
+        .collect();
+    let best = rates.iter().cloned().fold(0.0, f64::max);
+    Timing { hits, median_mrays: median(&mut rates), best_mrays: best }
+}
+
+/// Origins uniform in the scene's bounds, directions uniform on the sphere
+/// (a fixed-seed SplitMix64 stream, so every run traces the same rays).
+fn random_rays(bvh: &Bvh, n: usize, seed: u64) -> Vec<Ray> {
+    let (lo, hi) = bvh.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    };
+    (0..n)
+        .map(|_| {
+            let o = Vec3::new(
+                lo.x + (hi.x - lo.x) * next(),
+                lo.y + (hi.y - lo.y) * next(),
+                lo.z + (hi.z - lo.z) * next(),
+            );
+            // Uniform on the sphere: z uniform in [-1, 1], azimuth uniform.
+            let z = 2.0 * next() - 1.0;
+            let phi = std::f32::consts::TAU * next();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
+        })
+        .collect()
+}
+
+/// Reads raw little-endian float32 rays, six floats each.
+fn read_rays(path: &PathBuf) -> Result<Vec<Ray>, CliError> {
+    let bytes =
+        std::fs::read(path).map_err(|e| CliError::io(format!("{}: cannot read rays: {e}", path.display())))?;
+    if bytes.len() % 24 != 0 {
+        return Err(CliError::scene(format!(
+            "{}: {} bytes is not a whole number of 24-byte rays",
+            path.display(),
+            bytes.len()
+        )));
+    }
+    let f = |c: &[u8], i: usize| f32::from_le_bytes([c[4 * i], c[4 * i + 1], c[4 * i + 2], c[4 * i + 3]]);
+    bytes
+        .chunks_exact(24)
+        .enumerate()
+        .map(|(k, c)| {
+            let o = Vec3::new(f(c, 0), f(c, 1), f(c, 2));
+            let d = Vec3::new(f(c, 3), f(c, 4), f(c, 5));
+            if !(o.is_finite() && d.is_finite()) || d.length_squared() == 0.0 {
+                return Err(CliError::scene(format!("{}: ray {k} is not finite or has no direction", path.display())));
+            }
+            Ok(Ray::new(o, d))
+        })
+        .collect()
+}
