@@ -71,17 +71,24 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
 
     let (w, h) = (scene.view.width, scene.view.height);
     let camera = Camera::new(&scene.view, w, h);
-    let primary: Vec<Ray> =
-        (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5)).collect();
+    let primary: Vec<Ray> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5))
+        .collect();
     let random = random_rays(&bvh, args.random.unwrap_or((w * h) as usize), args.seed);
 
-    let mut summary = vec![format!("build_ms={build_ms:.3}"), format!("sah_cost={:.3}", st.sah_cost)];
+    let mut summary = vec![
+        format!("build_ms={build_ms:.3}"),
+        format!("sah_cost={:.3}", st.sah_cost),
+    ];
     let mut sets = vec![("primary", primary), ("random", random)];
     if let Some(path) = &args.rays {
         sets.push(("rays", read_rays(path)?));
     }
     for (name, rays) in &sets {
-        let closest = time_query(&pool, rays, args.repeat, |r| bvh.closest_hit(r, f32::INFINITY).is_some());
+        let closest = time_query(&pool, rays, args.repeat, |r| {
+            bvh.closest_hit(r, f32::INFINITY).is_some()
+        });
         let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
         println!(
             "{name:>8}: {} rays, {} hits; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
@@ -113,10 +120,17 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 /// Traces every ray once to warm up, then `repeat` timed passes.
-fn time_query(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, query: impl Fn(&Ray) -> bool + Sync) -> Timing {
+fn time_query(
+    pool: &rayon::ThreadPool,
+    rays: &[Ray],
+    repeat: u32,
+    query: impl Fn(&Ray) -> bool + Sync,
+) -> Timing {
     let pass = || -> usize {
         pool.install(|| {
-            rays.par_chunks(4096).map(|c| c.iter().filter(|r| query(r)).count()).sum::<usize>()
+            rays.par_chunks(4096)
+                .map(|c| c.iter().filter(|r| query(r)).count())
+                .sum::<usize>()
         })
     };
     let hits = pass();
@@ -129,7 +143,11 @@ fn time_query(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, query: impl F
         })
         .collect();
     let best = rates.iter().cloned().fold(0.0, f64::max);
-    Timing { hits, median_mrays: median(&mut rates), best_mrays: best }
+    Timing {
+        hits,
+        median_mrays: median(&mut rates),
+        best_mrays: best,
+    }
 }
 
 /// Origins uniform in the scene's bounds, directions uniform on the sphere
@@ -162,8 +180,8 @@ fn random_rays(bvh: &Bvh, n: usize, seed: u64) -> Vec<Ray> {
 
 /// Reads raw little-endian float32 rays, six floats each.
 fn read_rays(path: &PathBuf) -> Result<Vec<Ray>, CliError> {
-    let bytes =
-        std::fs::read(path).map_err(|e| CliError::io(format!("{}: cannot read rays: {e}", path.display())))?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| CliError::io(format!("{}: cannot read rays: {e}", path.display())))?;
     if bytes.len() % 24 != 0 {
         return Err(CliError::scene(format!(
             "{}: {} bytes is not a whole number of 24-byte rays",
@@ -179,7 +197,10 @@ fn read_rays(path: &PathBuf) -> Result<Vec<Ray>, CliError> {
             let o = Vec3::new(f(c, 0), f(c, 1), f(c, 2));
             let d = Vec3::new(f(c, 3), f(c, 4), f(c, 5));
             if !(o.is_finite() && d.is_finite()) || d.length_squared() == 0.0 {
-                return Err(CliError::scene(format!("{}: ray {k} is not finite or has no direction", path.display())));
+                return Err(CliError::scene(format!(
+                    "{}: ray {k} is not finite or has no direction",
+                    path.display()
+                )));
             }
             Ok(Ray::new(o, d))
         })

@@ -3,8 +3,10 @@
 
 mod bench;
 mod info;
+mod interrupt;
 mod load;
 mod output;
+mod progress;
 mod render;
 
 use clap::{Parser, Subcommand};
@@ -90,6 +92,7 @@ pub fn run() -> i32 {
             return if e.use_stderr() { exit::USAGE } else { exit::OK };
         }
     };
+    interrupt::install();
     let result = match cli.command {
         Command::Info(a) => info::run(a),
         Command::Render(a) => render::run(a),

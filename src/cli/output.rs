@@ -6,7 +6,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use super::CliError;
+use super::{interrupt, CliError};
 
 /// A destination file being written through a temporary sibling.
 pub struct AtomicOutput {
@@ -36,16 +36,12 @@ impl AtomicOutput {
         ));
         let file = File::create(&temp)
             .map_err(|e| CliError::io(format!("{}: cannot write output: {}", dest.display(), brief(&e))))?;
+        interrupt::register_temp(temp.clone());
         Ok(AtomicOutput {
             dest: dest.to_path_buf(),
             temp,
             file: Some(BufWriter::new(file)),
         })
-    }
-
-    /// The temporary file's path (removed again if the output is dropped uncommitted).
-    pub fn temp_path(&self) -> &Path {
-        &self.temp
     }
 
     /// A writer into the temporary file.
@@ -67,7 +63,9 @@ impl AtomicOutput {
         let f = w.into_inner().map_err(|e| fail(e.into_error()))?;
         f.sync_all().map_err(fail)?;
         drop(f);
+        interrupt::check()?;
         std::fs::rename(&self.temp, &self.dest).map_err(fail)?;
+        interrupt::unregister_temp(&self.temp);
         Ok(())
     }
 }
@@ -76,6 +74,7 @@ impl Drop for AtomicOutput {
     fn drop(&mut self) {
         if self.file.take().is_some() {
             let _ = std::fs::remove_file(&self.temp);
+            interrupt::unregister_temp(&self.temp);
         }
     }
 }

@@ -9,11 +9,12 @@ use serde::Serialize;
 
 use super::load::{load_scene, print_warnings};
 use super::output::AtomicOutput;
-use super::CliError;
+use super::progress::Progress;
+use super::{interrupt, CliError};
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
 use nffrt::image::{encode_png, Image};
-use nffrt::render::{render, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
+use nffrt::render::{eye_rows, render_observed, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
 
 /// The deepest ray tree allowed (keeps the recursion far from the stack limit).
 pub const MAX_DEPTH_CAP: u32 = 64;
@@ -49,6 +50,9 @@ pub struct RenderArgs {
     /// Write ray counts and timings as JSON to this file.
     #[arg(long, value_name = "FILE")]
     pub stats_json: Option<PathBuf>,
+    /// No progress bar and no closing summary line.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Counts and timings, as written by `--stats-json`.
@@ -129,8 +133,13 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let t0 = Instant::now();
     let bvh = pool.install(|| Bvh::new(build_geometry(scene)));
     let build_s = t0.elapsed().as_secs_f64();
+    interrupt::check()?;
     let t1 = Instant::now();
-    let (image, stats) = pool.install(|| render(scene, &bvh, &opts));
+    let progress = Progress::new(eye_rows(&opts), args.quiet);
+    let rendered = pool.install(|| render_observed(scene, &bvh, &opts, &progress));
+    progress.finish();
+    let (image, stats) =
+        rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
     let render_s = t1.elapsed().as_secs_f64();
 
     write_image(&image, format, output.writer())
@@ -157,6 +166,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     if args.stats {
         print_stats(&report);
+    }
+    if !args.quiet {
+        eprintln!(
+            "rendered {} in {:.2} s: {} rays, {:.1} Mrays/s, {}x{}, {} threads",
+            out_path.display(),
+            build_s + render_s,
+            report.total_rays,
+            report.mrays_per_s,
+            opts.width,
+            opts.height,
+            threads
+        );
     }
     Ok(())
 }

@@ -58,18 +58,52 @@ impl RenderOptions {
 /// The default maximum ray depth (the SPD's).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
 
+/// Watches a render as it runs: progress reports and cancellation.
+pub trait Observer: Sync {
+    /// Called after each finished row of eye rays, with the rays that row traced.
+    fn row_done(&self, _rays: u64) {}
+    /// Polled between rows: returning true abandons the render.
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// An observer that ignores everything.
+pub struct Silent;
+
+impl Observer for Silent {}
+
 /// Renders `scene` (already built into `bvh`) and returns the image and ray counts.
 pub fn render(scene: &Scene, bvh: &Bvh, opts: &RenderOptions) -> (Image, Stats) {
+    render_observed(scene, bvh, opts, &Silent).expect("a silent render is never cancelled")
+}
+
+/// Number of eye-ray rows a render traces (for progress reporting).
+pub fn eye_rows(opts: &RenderOptions) -> u64 {
+    match opts.sampling {
+        Sampling::PixelCenters => opts.height as u64,
+        Sampling::SpdCorners => opts.height as u64 + 1,
+    }
+}
+
+/// Renders like [`render`], reporting each finished row to `observer`; `None` if the
+/// observer cancelled the render.
+pub fn render_observed(
+    scene: &Scene,
+    bvh: &Bvh,
+    opts: &RenderOptions,
+    observer: &dyn Observer,
+) -> Option<(Image, Stats)> {
     let camera = Camera::new(&scene.view, opts.width, opts.height);
     let tracer = Tracer::new(scene, bvh, opts.max_depth);
     let (w, h) = (opts.width as usize, opts.height as usize);
     match opts.sampling {
         Sampling::PixelCenters => {
-            let (rows, stats) = trace_grid(&tracer, &camera, w, h, 0.5);
-            (Image::from_pixels(opts.width, opts.height, rows), stats)
+            let (rows, stats) = trace_grid(&tracer, &camera, w, h, 0.5, observer)?;
+            Some((Image::from_pixels(opts.width, opts.height, rows), stats))
         }
         Sampling::SpdCorners => {
-            let (corners, stats) = trace_grid(&tracer, &camera, w + 1, h + 1, 0.0);
+            let (corners, stats) = trace_grid(&tracer, &camera, w + 1, h + 1, 0.0, observer)?;
             let mut pixels = Vec::with_capacity(w * h);
             for j in 0..h {
                 for i in 0..w {
@@ -77,16 +111,26 @@ pub fn render(scene: &Scene, bvh: &Bvh, opts: &RenderOptions) -> (Image, Stats) 
                     pixels.push((c(i, j) + c(i + 1, j) + c(i, j + 1) + c(i + 1, j + 1)) * 0.25);
                 }
             }
-            (Image::from_pixels(opts.width, opts.height, pixels), stats)
+            Some((Image::from_pixels(opts.width, opts.height, pixels), stats))
         }
     }
 }
 
 /// Traces a `cols` x `rows` grid of eye rays through raster points `(i + offset, j + offset)`.
-fn trace_grid(tracer: &Tracer, camera: &Camera, cols: usize, rows: usize, offset: f32) -> (Vec<Vec3>, Stats) {
-    let per_row: Vec<(Vec<Vec3>, Stats)> = (0..rows)
+fn trace_grid(
+    tracer: &Tracer,
+    camera: &Camera,
+    cols: usize,
+    rows: usize,
+    offset: f32,
+    observer: &dyn Observer,
+) -> Option<(Vec<Vec3>, Stats)> {
+    let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows)
         .into_par_iter()
         .map(|j| {
+            if observer.cancelled() {
+                return None;
+            }
             let mut stats = Stats::default();
             let row = (0..cols)
                 .map(|i| {
@@ -94,14 +138,16 @@ fn trace_grid(tracer: &Tracer, camera: &Camera, cols: usize, rows: usize, offset
                     tracer.trace_eye(&ray, &mut stats)
                 })
                 .collect();
-            (row, stats)
+            observer.row_done(stats.total_rays());
+            Some((row, stats))
         })
         .collect();
+    let per_row = per_row?;
     let mut stats = Stats::default();
     let mut out = Vec::with_capacity(cols * rows);
     for (row, s) in per_row {
         out.extend(row);
         stats += s;
     }
-    (out, stats)
+    Some((out, stats))
 }
