@@ -20,12 +20,20 @@ pub struct LoadedScene {
 /// Reads and parses `path` (`-` is standard input). Parse errors come back as
 /// `PATH:LINE:COL: message` with the bad-scene exit code.
 pub fn load_scene(path: &Path) -> Result<LoadedScene, CliError> {
-    let name = if path == Path::new("-") { "<stdin>".to_string() } else { path.display().to_string() };
+    let name = if path == Path::new("-") {
+        "<stdin>".to_string()
+    } else {
+        path.display().to_string()
+    };
     let bytes = read_input(path, &name)?;
     let t0 = Instant::now();
     let scene = nffrt::nff::parse_bytes(&bytes)
         .map_err(|e| CliError::scene(format!("{name}:{}:{}: {}", e.line, e.column, e.kind)))?;
-    Ok(LoadedScene { scene, name, parse_s: t0.elapsed().as_secs_f64() })
+    Ok(LoadedScene {
+        scene,
+        name,
+        parse_s: t0.elapsed().as_secs_f64(),
+    })
 }
 
 fn read_input(path: &Path, name: &str) -> Result<Vec<u8>, CliError> {
@@ -54,7 +62,10 @@ fn read_input(path: &Path, name: &str) -> Result<Vec<u8>, CliError> {
 pub fn print_warnings(loaded: &LoadedScene, limit: usize) {
     let w = &loaded.scene.warnings;
     for warning in w.iter().take(limit) {
-        eprintln!("{}:{}:{}: warning: {}", loaded.name, warning.line, warning.column, warning.message);
+        eprintln!(
+            "{}:{}:{}: warning: {}",
+            loaded.name, warning.line, warning.column, warning.message
+        );
     }
     if w.len() > limit {
         eprintln!("{}: ... and {} more warnings", loaded.name, w.len() - limit);

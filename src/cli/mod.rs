@@ -6,7 +6,7 @@ mod load;
 
 use clap::{Parser, Subcommand};
 
-pub use load::{load_scene, LoadedScene};
+pub use load::load_scene;
 
 /// Exit codes, documented in the README.
 pub mod exit {
@@ -19,6 +19,7 @@ pub mod exit {
     /// Reading or writing a file failed.
     pub const IO: i32 = 4;
     /// Interrupted by Ctrl-C or SIGTERM.
+    #[allow(dead_code)] // documented now; used once a long-running command exists
     pub const INTERRUPTED: i32 = 130;
 }
 
@@ -34,23 +35,35 @@ pub struct CliError {
 impl CliError {
     /// An I/O failure.
     pub fn io(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::IO }
+        CliError {
+            message: message.into(),
+            code: exit::IO,
+        }
     }
     /// A bad scene file.
     pub fn scene(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::BAD_SCENE }
+        CliError {
+            message: message.into(),
+            code: exit::BAD_SCENE,
+        }
     }
     /// A bad combination of command-line values.
+    #[allow(dead_code)] // for subcommands with option combinations to check
     pub fn usage(message: impl Into<String>) -> Self {
-        CliError { message: message.into(), code: exit::USAGE }
+        CliError {
+            message: message.into(),
+            code: exit::USAGE,
+        }
     }
 }
 
 /// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None)]
-#[command(after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats")]
+#[command(
+    after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
+Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -83,13 +83,21 @@ impl<'a> Parser<'a> {
             }
         }
         if !self.saw_view {
-            self.warn((1, 1), "no 'v' block: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)".into());
+            self.warn(
+                (1, 1),
+                "no 'v' block: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)"
+                    .into(),
+            );
         }
         Ok(())
     }
 
     fn warn(&mut self, at: Loc, message: String) {
-        self.scene.warnings.push(Warning { line: at.0, column: at.1, message });
+        self.scene.warnings.push(Warning {
+            line: at.0,
+            column: at.1,
+            message,
+        });
     }
 
     fn expected(&self, tok: Option<Token>, expected: &str) -> ParseError {
@@ -97,7 +105,13 @@ impl<'a> Parser<'a> {
             Some(t) => (loc(&t), t.quoted()),
             None => (self.lexer.end_location(), "end of file".to_string()),
         };
-        err(at, ParseErrorKind::Expected { expected: expected.to_string(), found })
+        err(
+            at,
+            ParseErrorKind::Expected {
+                expected: expected.to_string(),
+                found,
+            },
+        )
     }
 
     /// Reads one finite number; `what` names it in the error message.
@@ -111,7 +125,11 @@ impl<'a> Parser<'a> {
     }
 
     fn vec3(&mut self, what: &str) -> Result<Vec3, ParseError> {
-        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+        Ok(Vec3::new(
+            self.number(what)?,
+            self.number(what)?,
+            self.number(what)?,
+        ))
     }
 
     /// Reads a non-negative integer count.
@@ -123,7 +141,10 @@ impl<'a> Parser<'a> {
         if t.text.is_empty() || !t.text.iter().all(u8::is_ascii_digit) {
             return Err(self.expected(tok, &format!("a non-negative whole number ({what})")));
         }
-        match std::str::from_utf8(t.text).ok().and_then(|s| s.parse::<u32>().ok()) {
+        match std::str::from_utf8(t.text)
+            .ok()
+            .and_then(|s| s.parse::<u32>().ok())
+        {
             Some(n) => Ok((n, loc(&t))),
             None => Err(invalid(loc(&t), format!("{what} {} is too large", t.quoted()))),
         }
@@ -135,7 +156,10 @@ impl<'a> Parser<'a> {
         if let Some(m) = self.material {
             return m;
         }
-        self.warn(at, "object before any 'f': using the default material (f 1 1 1 1 0 1 0 1)".into());
+        self.warn(
+            at,
+            "object before any 'f': using the default material (f 1 1 1 1 0 1 0 1)".into(),
+        );
         self.scene.materials.push(Material::DEFAULT);
         let m = (self.scene.materials.len() - 1) as u32;
         self.material = Some(m);
@@ -164,14 +188,21 @@ impl<'a> Parser<'a> {
                 b"from" => from = Some(self.vec3("'from' x y z")?),
                 b"at" => look_at = Some(self.vec3("'at' x y z")?),
                 b"up" => up = Some(self.vec3("'up' x y z")?),
-                b"angle" => angle = Some((self.number("'angle' in degrees")?, loc(&t))),
+                b"angle" => {
+                    // A bad angle is reported at its value, not at the sub-keyword.
+                    let value_at = self.lexer.clone().next().map_or(loc(&t), |n| loc(&n));
+                    angle = Some((self.number("'angle' in degrees")?, value_at));
+                }
                 b"hither" => v.hither = self.number("'hither' distance")?,
                 _ => {
                     let (w, wl) = self.count("'resolution' width")?;
                     let (h, hl) = self.count("'resolution' height")?;
                     for (n, l) in [(w, wl), (h, hl)] {
                         if n == 0 || n > MAX_RESOLUTION {
-                            return Err(invalid(l, format!("resolution {n} is outside 1..={MAX_RESOLUTION}")));
+                            return Err(invalid(
+                                l,
+                                format!("resolution {n} is outside 1..={MAX_RESOLUTION}"),
+                            ));
                         }
                     }
                     (v.width, v.height) = (w, h);
@@ -184,15 +215,31 @@ impl<'a> Parser<'a> {
         v.up = up.ok_or_else(|| missing("up"))?;
         let (angle, angle_at) = angle.ok_or_else(|| missing("angle"))?;
         if !(angle > 0.0 && angle < 180.0) {
-            return Err(invalid(angle_at, format!("camera angle {angle} is outside (0, 180) degrees")));
+            return Err(invalid(
+                angle_at,
+                format!("camera angle {angle} is outside (0, 180) degrees"),
+            ));
         }
         v.angle = angle;
         let dir = v.at - v.from;
-        if dir.length_squared() == 0.0 {
+        let dist2 = dir.length_squared();
+        if dist2 == 0.0 {
             return Err(invalid(at, "camera 'from' and 'at' are the same point"));
         }
-        if dir.normalize().cross(v.up.normalize()).length_squared() < 1e-12 {
-            return Err(invalid(at, "camera 'up' is zero or parallel to the viewing direction"));
+        // Finite points can still be too far apart for f32: the direction would normalize to NaN.
+        if !dist2.is_finite() {
+            return Err(invalid(
+                at,
+                "camera 'from' and 'at' are too far apart (their distance overflows f32)",
+            ));
+        }
+        // `partial_cmp`, not `<`, so that a NaN (an up vector too long to normalize) is refused too.
+        let sin2 = dir.normalize().cross(v.up.normalize()).length_squared();
+        if sin2.partial_cmp(&1e-12) != Some(std::cmp::Ordering::Greater) {
+            return Err(invalid(
+                at,
+                "camera 'up' is zero or parallel to the viewing direction",
+            ));
         }
         self.scene.view = v;
         Ok(())
@@ -247,7 +294,12 @@ impl<'a> Parser<'a> {
             self.warn(loc(kw), "sphere of radius 0 skipped".into());
             return Ok(());
         }
-        self.scene.spheres.push(Sphere { center, radius, material, line: kw.line });
+        self.scene.spheres.push(Sphere {
+            center,
+            radius,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -267,9 +319,19 @@ impl<'a> Parser<'a> {
             return Ok(());
         }
         if (base_radius < 0.0) != (apex_radius < 0.0) && base_radius != 0.0 && apex_radius != 0.0 {
-            self.warn(loc(kw), "cone radii of opposite signs: treated as an outside-visible cone".into());
+            self.warn(
+                loc(kw),
+                "cone radii of opposite signs: treated as an outside-visible cone".into(),
+            );
         }
-        self.scene.cones.push(Cone { base, base_radius, apex, apex_radius, material, line: kw.line });
+        self.scene.cones.push(Cone {
+            base,
+            base_radius,
+            apex,
+            apex_radius,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -277,7 +339,10 @@ impl<'a> Parser<'a> {
     fn polygon(&mut self, kw: &Token) -> Result<(), ParseError> {
         let (n, n_at) = self.count("polygon vertex count")?;
         if n < 3 {
-            return Err(invalid(n_at, format!("a polygon needs at least 3 vertices, not {n}")));
+            return Err(invalid(
+                n_at,
+                format!("a polygon needs at least 3 vertices, not {n}"),
+            ));
         }
         let first = self.scene.polygon_vertices.len();
         // No reservation from `n`: a huge count fails at the end of the file, not in the allocator.
@@ -288,11 +353,19 @@ impl<'a> Parser<'a> {
         let material = self.current_material(loc(kw));
         if is_degenerate(&self.scene.polygon_vertices[first..]) {
             self.scene.polygon_vertices.truncate(first);
-            self.warn(loc(kw), "polygon with no area (collinear or coincident vertices) skipped".into());
+            self.warn(
+                loc(kw),
+                "polygon with no area (collinear or coincident vertices) skipped".into(),
+            );
             return Ok(());
         }
         let first = index_u32(first, loc(kw))?;
-        self.scene.polygons.push(Polygon { first, count: n, material, line: kw.line });
+        self.scene.polygons.push(Polygon {
+            first,
+            count: n,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -300,7 +373,10 @@ impl<'a> Parser<'a> {
     fn patch(&mut self, kw: &Token) -> Result<(), ParseError> {
         let (n, n_at) = self.count("patch vertex count")?;
         if n < 3 {
-            return Err(invalid(n_at, format!("a patch needs at least 3 vertices, not {n}")));
+            return Err(invalid(
+                n_at,
+                format!("a patch needs at least 3 vertices, not {n}"),
+            ));
         }
         let first = self.scene.patch_vertices.len();
         for _ in 0..n {
@@ -313,11 +389,19 @@ impl<'a> Parser<'a> {
         if is_degenerate(&self.scene.patch_vertices[first..]) {
             self.scene.patch_vertices.truncate(first);
             self.scene.patch_normals.truncate(first);
-            self.warn(loc(kw), "patch with no area (collinear or coincident vertices) skipped".into());
+            self.warn(
+                loc(kw),
+                "patch with no area (collinear or coincident vertices) skipped".into(),
+            );
             return Ok(());
         }
         let first = index_u32(first, loc(kw))?;
-        self.scene.patches.push(Patch { first, count: n, material, line: kw.line });
+        self.scene.patches.push(Patch {
+            first,
+            count: n,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -333,7 +417,11 @@ impl<'a> Parser<'a> {
             self.warn(loc(kw), "plane through collinear points skipped".into());
             return Ok(());
         }
-        self.scene.planes.push(Plane { points, material, line: kw.line });
+        self.scene.planes.push(Plane {
+            points,
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 
@@ -348,28 +436,44 @@ impl<'a> Parser<'a> {
         let material = self.current_material(loc(kw));
         let (min, max) = (Vec3::from_array(lo), Vec3::from_array(hi));
         if lo.iter().zip(&hi).any(|(a, b)| a > b) {
-            self.warn(loc(kw), "box with a minimum above its maximum: limits swapped".into());
+            self.warn(
+                loc(kw),
+                "box with a minimum above its maximum: limits swapped".into(),
+            );
         }
-        self.scene.boxes.push(BoxPrim { min: min.min(max), max: min.max(max), material, line: kw.line });
+        self.scene.boxes.push(BoxPrim {
+            min: min.min(max),
+            max: min.max(max),
+            material,
+            line: kw.line,
+        });
         Ok(())
     }
 }
 
-/// True when the points span no area: every cross product of edges from the first
-/// point is (relatively) zero.
+/// True when the points span no area: Newell's normal (robust for concave polygons, zero
+/// for collinear ones) is negligible against the polygon's squared extent. Computed in f64
+/// so that neither huge (1e13) nor tiny (1e-13) but valid f32 polygons overflow or underflow.
 fn is_degenerate(pts: &[Vec3]) -> bool {
-    let p0 = pts[0];
-    let scale = pts.iter().fold(0.0f32, |m, p| m.max((*p - p0).length_squared()));
+    let f64s = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let p0 = f64s(pts[0]);
+    let rel = |p: Vec3| {
+        let q = f64s(p);
+        [q[0] - p0[0], q[1] - p0[1], q[2] - p0[2]]
+    };
+    let len2 = |a: [f64; 3]| a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    let scale = pts.iter().fold(0.0f64, |m, p| m.max(len2(rel(*p))));
     if scale == 0.0 {
         return true;
     }
-    // Newell's normal: robust for concave polygons and zero for collinear ones.
-    let mut n = Vec3::ZERO;
+    let mut n = [0.0f64; 3];
     for (i, a) in pts.iter().enumerate() {
-        let b = pts[(i + 1) % pts.len()];
-        n += (*a - p0).cross(b - p0);
+        let (a, b) = (rel(*a), rel(pts[(i + 1) % pts.len()]));
+        n[0] += a[1] * b[2] - a[2] * b[1];
+        n[1] += a[2] * b[0] - a[0] * b[2];
+        n[2] += a[0] * b[1] - a[1] * b[0];
     }
-    n.length_squared() <= 1e-12 * scale * scale
+    len2(n) <= 1e-12 * scale * scale
 }
 
 fn index_u32(i: usize, at: Loc) -> Result<u32, ParseError> {
@@ -411,7 +515,14 @@ mod tests {
         assert_eq!(s.lights[0].color, None);
         assert_eq!(s.lights[1].color, Some(Vec3::splat(0.5)));
         assert_eq!(
-            (s.spheres.len(), s.cones.len(), s.polygons.len(), s.patches.len(), s.planes.len(), s.boxes.len()),
+            (
+                s.spheres.len(),
+                s.cones.len(),
+                s.polygons.len(),
+                s.patches.len(),
+                s.planes.len(),
+                s.boxes.len()
+            ),
             (1, 1, 1, 1, 1, 1)
         );
         assert_eq!(s.boxes[0].min, Vec3::new(-1.0, -2.0, -3.0));
@@ -470,6 +581,37 @@ mod tests {
         let lines: Vec<u32> = s.warnings.iter().map(|w| w.line).collect();
         assert_eq!(lines, vec![2, 3, 4]);
         assert_eq!(s.materials, vec![Material::DEFAULT]);
+    }
+
+    #[test]
+    fn bad_angle_is_reported_at_its_value() {
+        let e = parse_err("v from 0 0 5 at 0 0 0 up 0 1 0\n  angle -5");
+        assert_eq!((e.line, e.column), (2, 9));
+    }
+
+    #[test]
+    fn cameras_that_overflow_f32_are_refused() {
+        for cam in [
+            "v from 0 0 3e38 at 0 0 -3e38 up 0 1 0 angle 40",
+            "v from 0 0 3e19 at 0 0 0 up 0 1 0 angle 40",
+            "v from 0 0 5 at 0 0 0 up 3e38 3e38 0 angle 40",
+        ] {
+            assert!(matches!(parse_err(cam).kind, ParseErrorKind::Invalid(_)), "{cam}");
+        }
+    }
+
+    #[test]
+    fn degeneracy_does_not_depend_on_scale() {
+        for k in [1e-15f32, 1e-6, 1.0, 1e6, 1e15, 1e18] {
+            let tri = [Vec3::ZERO, Vec3::new(k, 0.0, 0.0), Vec3::new(0.0, k, 0.0)];
+            assert!(!is_degenerate(&tri), "{k}");
+            let line = [
+                Vec3::ZERO,
+                Vec3::new(k, k, k),
+                Vec3::new(2.0 * k, 2.0 * k, 2.0 * k),
+            ];
+            assert!(is_degenerate(&line), "{k}");
+        }
     }
 
     #[test]

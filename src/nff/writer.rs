@@ -38,7 +38,16 @@ pub fn write_nff(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
     let mut material = |w: &mut dyn Write, m: u32| -> io::Result<()> {
         if current != Some(m) {
             let f = &scene.materials[m as usize];
-            writeln!(w, "f {} {} {} {} {} {}", V(f.color), f.kd, f.ks, f.shine, f.t, f.ior)?;
+            writeln!(
+                w,
+                "f {} {} {} {} {} {}",
+                V(f.color),
+                f.kd,
+                f.ks,
+                f.shine,
+                f.t,
+                f.ior
+            )?;
             current = Some(m);
         }
         Ok(())
@@ -69,7 +78,14 @@ pub fn write_nff(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
     }
     for c in &scene.cones {
         material(w, c.material)?;
-        writeln!(w, "c {} {} {} {}", V(c.base), c.base_radius, V(c.apex), c.apex_radius)?;
+        writeln!(
+            w,
+            "c {} {} {} {}",
+            V(c.base),
+            c.base_radius,
+            V(c.apex),
+            c.apex_radius
+        )?;
     }
     for b in &scene.boxes {
         material(w, b.material)?;
