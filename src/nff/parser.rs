@@ -188,7 +188,11 @@ impl<'a> Parser<'a> {
                 b"from" => from = Some(self.vec3("'from' x y z")?),
                 b"at" => look_at = Some(self.vec3("'at' x y z")?),
                 b"up" => up = Some(self.vec3("'up' x y z")?),
-                b"angle" => angle = Some((self.number("'angle' in degrees")?, loc(&t))),
+                b"angle" => {
+                    // A bad angle is reported at its value, not at the sub-keyword.
+                    let value_at = self.lexer.clone().next().map_or(loc(&t), |n| loc(&n));
+                    angle = Some((self.number("'angle' in degrees")?, value_at));
+                }
                 b"hither" => v.hither = self.number("'hither' distance")?,
                 _ => {
                     let (w, wl) = self.count("'resolution' width")?;
@@ -218,10 +222,20 @@ impl<'a> Parser<'a> {
         }
         v.angle = angle;
         let dir = v.at - v.from;
-        if dir.length_squared() == 0.0 {
+        let dist2 = dir.length_squared();
+        if dist2 == 0.0 {
             return Err(invalid(at, "camera 'from' and 'at' are the same point"));
         }
-        if dir.normalize().cross(v.up.normalize()).length_squared() < 1e-12 {
+        // Finite points can still be too far apart for f32: the direction would normalize to NaN.
+        if !dist2.is_finite() {
+            return Err(invalid(
+                at,
+                "camera 'from' and 'at' are too far apart (their distance overflows f32)",
+            ));
+        }
+        // `partial_cmp`, not `<`, so that a NaN (an up vector too long to normalize) is refused too.
+        let sin2 = dir.normalize().cross(v.up.normalize()).length_squared();
+        if sin2.partial_cmp(&1e-12) != Some(std::cmp::Ordering::Greater) {
             return Err(invalid(
                 at,
                 "camera 'up' is zero or parallel to the viewing direction",
@@ -437,21 +451,29 @@ impl<'a> Parser<'a> {
     }
 }
 
-/// True when the points span no area: every cross product of edges from the first
-/// point is (relatively) zero.
+/// True when the points span no area: Newell's normal (robust for concave polygons, zero
+/// for collinear ones) is negligible against the polygon's squared extent. Computed in f64
+/// so that neither huge (1e13) nor tiny (1e-13) but valid f32 polygons overflow or underflow.
 fn is_degenerate(pts: &[Vec3]) -> bool {
-    let p0 = pts[0];
-    let scale = pts.iter().fold(0.0f32, |m, p| m.max((*p - p0).length_squared()));
+    let f64s = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let p0 = f64s(pts[0]);
+    let rel = |p: Vec3| {
+        let q = f64s(p);
+        [q[0] - p0[0], q[1] - p0[1], q[2] - p0[2]]
+    };
+    let len2 = |a: [f64; 3]| a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    let scale = pts.iter().fold(0.0f64, |m, p| m.max(len2(rel(*p))));
     if scale == 0.0 {
         return true;
     }
-    // Newell's normal: robust for concave polygons and zero for collinear ones.
-    let mut n = Vec3::ZERO;
+    let mut n = [0.0f64; 3];
     for (i, a) in pts.iter().enumerate() {
-        let b = pts[(i + 1) % pts.len()];
-        n += (*a - p0).cross(b - p0);
+        let (a, b) = (rel(*a), rel(pts[(i + 1) % pts.len()]));
+        n[0] += a[1] * b[2] - a[2] * b[1];
+        n[1] += a[2] * b[0] - a[0] * b[2];
+        n[2] += a[0] * b[1] - a[1] * b[0];
     }
-    n.length_squared() <= 1e-12 * scale * scale
+    len2(n) <= 1e-12 * scale * scale
 }
 
 fn index_u32(i: usize, at: Loc) -> Result<u32, ParseError> {
@@ -559,6 +581,37 @@ mod tests {
         let lines: Vec<u32> = s.warnings.iter().map(|w| w.line).collect();
         assert_eq!(lines, vec![2, 3, 4]);
         assert_eq!(s.materials, vec![Material::DEFAULT]);
+    }
+
+    #[test]
+    fn bad_angle_is_reported_at_its_value() {
+        let e = parse_err("v from 0 0 5 at 0 0 0 up 0 1 0\n  angle -5");
+        assert_eq!((e.line, e.column), (2, 9));
+    }
+
+    #[test]
+    fn cameras_that_overflow_f32_are_refused() {
+        for cam in [
+            "v from 0 0 3e38 at 0 0 -3e38 up 0 1 0 angle 40",
+            "v from 0 0 3e19 at 0 0 0 up 0 1 0 angle 40",
+            "v from 0 0 5 at 0 0 0 up 3e38 3e38 0 angle 40",
+        ] {
+            assert!(matches!(parse_err(cam).kind, ParseErrorKind::Invalid(_)), "{cam}");
+        }
+    }
+
+    #[test]
+    fn degeneracy_does_not_depend_on_scale() {
+        for k in [1e-15f32, 1e-6, 1.0, 1e6, 1e15, 1e18] {
+            let tri = [Vec3::ZERO, Vec3::new(k, 0.0, 0.0), Vec3::new(0.0, k, 0.0)];
+            assert!(!is_degenerate(&tri), "{k}");
+            let line = [
+                Vec3::ZERO,
+                Vec3::new(k, k, k),
+                Vec3::new(2.0 * k, 2.0 * k, 2.0 * k),
+            ];
+            assert!(is_degenerate(&line), "{k}");
+        }
     }
 
     #[test]

@@ -1,0 +1,127 @@
+//! Helpers shared by the integration tests: running the `nffrt` binary, finding the
+//! shared scenes, reading the `# expect:` headers of the hand-written test data.
+
+// Each test crate includes this module and uses a different subset of it.
+#![allow(dead_code)]
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+/// Runs the `nffrt` binary built for these tests, feeding `stdin` to it.
+pub fn nffrt(args: &[&str], stdin: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the nffrt binary starts");
+    // The binary may exit (e.g. on a usage error) before reading stdin: ignore a broken pipe.
+    let _ = child.stdin.take().expect("piped stdin").write_all(stdin);
+    child.wait_with_output().expect("nffrt runs to completion")
+}
+
+/// Runs `nffrt info --json PATH` and returns the output.
+pub fn info_json(path: &Path) -> Output {
+    nffrt(&["info", "--json", path.to_str().expect("UTF-8 test path")], b"")
+}
+
+/// Parses stdout of a successful `info --json` run, failing the test with stderr otherwise.
+pub fn json_of(out: &Output, what: &str) -> serde_json::Value {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{what}: expected success, stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{what}: stdout is not JSON ({e})"))
+}
+
+/// An unsigned field of an `info --json` object.
+pub fn field(json: &serde_json::Value, key: &str) -> u64 {
+    json[key]
+        .as_u64()
+        .unwrap_or_else(|| panic!("no unsigned field {key:?} in {json}"))
+}
+
+/// The `warnings` array of an `info --json` object, each as `LINE:COL: message`.
+pub fn warnings(json: &serde_json::Value) -> Vec<String> {
+    json["warnings"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no warnings array in {json}"))
+        .iter()
+        .map(|w| w.as_str().expect("warnings are strings").to_string())
+        .collect()
+}
+
+/// `tests/data/<kind>`.
+pub fn data_dir(kind: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(kind)
+}
+
+/// The `.nff` files directly in `dir`, sorted by name.
+pub fn nff_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "nff"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Every `.nff` under `../shared/scenes/{spd,p3d}`, or `None` (after printing a note) when
+/// the shared directory is absent, as it is outside the development machines.
+pub fn shared_scenes() -> Option<Vec<PathBuf>> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
+    if !root.is_dir() {
+        eprintln!(
+            "note: {} is absent: skipping the shared-scene checks",
+            root.display()
+        );
+        return None;
+    }
+    let mut all = Vec::new();
+    for sub in ["spd", "p3d"] {
+        let dir = root.join(sub);
+        if dir.is_dir() {
+            all.extend(nff_files(&dir));
+        }
+    }
+    assert!(!all.is_empty(), "{} holds no .nff scene", root.display());
+    Some(all)
+}
+
+/// The text after `# KEY:` on each leading comment line of a test file, in order.
+/// Only the comment block at the top of the file is read, so a header cannot hide
+/// further down. Bytes after the header need not be UTF-8.
+pub fn header_values(bytes: &[u8], key: &str) -> Vec<String> {
+    let prefix = format!("# {key}:");
+    let mut values = Vec::new();
+    for line in bytes.split(|&b| b == b'\n') {
+        let Ok(line) = std::str::from_utf8(line) else {
+            break;
+        };
+        let line = line.trim_end_matches('\r');
+        if !line.starts_with('#') {
+            break;
+        }
+        if let Some(rest) = line.strip_prefix(&prefix) {
+            values.push(rest.trim().to_string());
+        }
+    }
+    values
+}
+
+/// The file name of a path, for messages and for the `PATH:` in error lines.
+pub fn name(path: &Path) -> String {
+    path.file_name()
+        .expect("a file name")
+        .to_string_lossy()
+        .into_owned()
+}
+
+pub mod compare;
