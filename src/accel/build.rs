@@ -12,7 +12,7 @@ const TRAVERSAL_COST: f32 = 1.0;
 pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
 /// by about `MAX_SAH_DEPTH + log2(n)` and so keeps traversal stacks small.
-const MAX_SAH_DEPTH: u32 = 40;
+const MAX_SAH_DEPTH: u32 = 32;
 
 /// Output of the builder: nodes (root at 0) and the primitive order of the leaves.
 pub struct Built {

@@ -6,7 +6,7 @@ use crate::geometry::{Geometry, GeometryData, Hit, Primitive};
 use crate::math::{Ray, Vec3};
 
 /// Traversal stack size; the builder keeps the tree shallower than this.
-const STACK_SIZE: usize = 128;
+const STACK_SIZE: usize = 64;
 
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
 /// (planes) kept beside it and tested linearly.
@@ -109,9 +109,10 @@ impl Bvh {
         }
         let mut stack = [(0u32, 0.0f32); STACK_SIZE];
         let mut sp = 0;
-        let Some(t_root) = self.nodes[0].bounds().hit(ray, t_best) else {
+        let t_root = self.nodes[0].entry(ray, t_best);
+        if t_root == f32::INFINITY {
             return best;
-        };
+        }
         stack[sp] = (0, t_root);
         sp += 1;
         while sp > 0 {
@@ -136,19 +137,17 @@ impl Bvh {
                     break;
                 }
                 let (l, r) = (node.first, node.first + 1);
-                let tl = self.nodes[l as usize].bounds().hit(ray, t_best);
-                let tr = self.nodes[r as usize].bounds().hit(ray, t_best);
-                index = match (tl, tr) {
-                    (Some(a), Some(b)) => {
-                        let (near, far, t_far) = if a <= b { (l, r, b) } else { (r, l, a) };
-                        stack[sp] = (far, t_far);
-                        sp += 1;
-                        near
-                    }
-                    (Some(_), None) => l,
-                    (None, Some(_)) => r,
-                    (None, None) => break,
-                };
+                let tl = self.nodes[l as usize].entry(ray, t_best);
+                let tr = self.nodes[r as usize].entry(ray, t_best);
+                let (near, far, t_near, t_far) = if tl <= tr { (l, r, tl, tr) } else { (r, l, tr, tl) };
+                if t_near == f32::INFINITY {
+                    break;
+                }
+                if t_far != f32::INFINITY {
+                    stack[sp] = (far, t_far);
+                    sp += 1;
+                }
+                index = near;
             }
         }
         best
@@ -163,7 +162,7 @@ impl Bvh {
         {
             return true;
         }
-        if self.bounded == 0 || self.nodes[0].bounds().hit(ray, t_max).is_none() {
+        if self.bounded == 0 || self.nodes[0].entry(ray, t_max) == f32::INFINITY {
             return false;
         }
         let mut stack = [0u32; STACK_SIZE];
@@ -182,8 +181,8 @@ impl Bvh {
                     break;
                 }
                 let (l, r) = (node.first, node.first + 1);
-                let hl = self.nodes[l as usize].bounds().hit(ray, t_max).is_some();
-                let hr = self.nodes[r as usize].bounds().hit(ray, t_max).is_some();
+                let hl = self.nodes[l as usize].entry(ray, t_max) != f32::INFINITY;
+                let hr = self.nodes[r as usize].entry(ray, t_max) != f32::INFINITY;
                 index = match (hl, hr) {
                     (true, true) => {
                         stack[sp] = r;

@@ -9,7 +9,9 @@ pub struct Ray {
     pub origin: Vec3,
     /// Direction; not necessarily unit length, though the renderer keeps it so.
     pub dir: Vec3,
-    /// Component-wise `1 / dir` (infinite where `dir` is zero), for box tests.
+    /// Component-wise `1 / dir`, for box tests. Always finite: a zero component of
+    /// `dir` is replaced by a tiny one of the same sign first, so the slab test never
+    /// computes `0 * inf` and its min/max need no NaN handling.
     pub inv_dir: Vec3,
 }
 
@@ -21,7 +23,7 @@ impl Ray {
         Ray {
             origin,
             dir,
-            inv_dir: Vec3::new(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z),
+            inv_dir: Vec3::new(safe_recip(dir.x), safe_recip(dir.y), safe_recip(dir.z)),
         }
     }
 
@@ -29,5 +31,30 @@ impl Ray {
     #[inline]
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + self.dir * t
+    }
+}
+
+/// `1 / x`, finite for every finite `x`: tiny magnitudes (including zero) are raised
+/// to 1e-30 with their sign kept.
+#[inline]
+fn safe_recip(x: f32) -> f32 {
+    const TINY: f32 = 1e-30;
+    if x.abs() < TINY {
+        1.0 / TINY.copysign(x)
+    } else {
+        1.0 / x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse_direction_is_finite_even_for_zero_components() {
+        let r = Ray::new(Vec3::ZERO, Vec3::new(0.0, -0.0, 2.0));
+        assert!(r.inv_dir.is_finite());
+        assert!(r.inv_dir.x > 1e29 && r.inv_dir.y < -1e29);
+        assert_eq!(r.inv_dir.z, 0.5);
     }
 }
