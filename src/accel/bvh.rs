@@ -2,17 +2,23 @@
 
 use super::build;
 use super::node::BvhNode;
+use super::wide::{self, Node4, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive};
 use crate::math::{Ray, Vec3};
 
-/// Traversal stack size; the builder keeps the tree shallower than this.
-const STACK_SIZE: usize = 64;
+/// Depth limit of the binary tree (the builder stays well below it).
+const MAX_DEPTH: usize = 64;
+/// Traversal stack size: each wide node pushes at most `WIDTH - 1` entries.
+const STACK_SIZE: usize = MAX_DEPTH * (WIDTH - 1);
 
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
 /// (planes) kept beside it and tested linearly.
 #[derive(Clone, Debug)]
 pub struct Bvh {
+    /// The binary SAH tree (kept for statistics and validation).
     nodes: Vec<BvhNode>,
+    /// The same tree collapsed to 4-wide nodes, used by the queries.
+    wide: Vec<Node4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
     primitives: Vec<Primitive>,
     bounded: usize,
@@ -63,8 +69,14 @@ impl Bvh {
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
+        let wide = if n_bounded > 0 {
+            wide::collapse(&built.nodes).0
+        } else {
+            Vec::new()
+        };
         Bvh {
             nodes: built.nodes,
+            wide,
             primitives: ordered,
             bounded: n_bounded,
             data,
@@ -104,50 +116,46 @@ impl Bvh {
                 best = Some((h, (self.bounded + i) as u32));
             }
         }
-        if self.bounded == 0 {
+        if self.wide.is_empty() {
             return best;
         }
+        let boxes = RayBoxes::new(ray);
         let mut stack = [(0u32, 0.0f32); STACK_SIZE];
-        let mut sp = 0;
-        let t_root = self.nodes[0].entry(ray, t_best);
-        if t_root == f32::INFINITY {
-            return best;
-        }
-        stack[sp] = (0, t_root);
-        sp += 1;
+        let mut sp = 1;
         while sp > 0 {
             sp -= 1;
-            let (mut index, t_entry) = stack[sp];
+            let (index, t_entry) = stack[sp];
             if t_entry >= t_best {
                 continue;
             }
-            loop {
-                let node = &self.nodes[index as usize];
-                if node.is_leaf() {
-                    let first = node.first as usize;
-                    for (k, p) in self.primitives[first..first + node.count as usize]
-                        .iter()
-                        .enumerate()
-                    {
-                        if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                            t_best = h.t;
-                            best = Some((h, (first + k) as u32));
-                        }
+            let node = &self.wide[index as usize];
+            let t = node.entries(&boxes, t_best);
+            let mut inner = [(0u32, 0.0f32); WIDTH];
+            let mut n_inner = 0;
+            for lane in 0..WIDTH {
+                if t[lane] >= t_best {
+                    continue;
+                }
+                let count = node.count[lane] as usize;
+                if count == 0 {
+                    inner[n_inner] = (node.child[lane], t[lane]);
+                    n_inner += 1;
+                    continue;
+                }
+                let first = node.child[lane] as usize;
+                for (k, p) in self.primitives[first..first + count].iter().enumerate() {
+                    if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                        t_best = h.t;
+                        best = Some((h, (first + k) as u32));
                     }
-                    break;
                 }
-                let (l, r) = (node.first, node.first + 1);
-                let tl = self.nodes[l as usize].entry(ray, t_best);
-                let tr = self.nodes[r as usize].entry(ray, t_best);
-                let (near, far, t_near, t_far) = if tl <= tr { (l, r, tl, tr) } else { (r, l, tr, tl) };
-                if t_near == f32::INFINITY {
-                    break;
-                }
-                if t_far != f32::INFINITY {
-                    stack[sp] = (far, t_far);
-                    sp += 1;
-                }
-                index = near;
+            }
+            // Push far to near so the nearest child is popped first.
+            let inner = &mut inner[..n_inner];
+            inner.sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
+            for &entry in inner.iter() {
+                stack[sp] = entry;
+                sp += 1;
             }
         }
         best
@@ -162,37 +170,33 @@ impl Bvh {
         {
             return true;
         }
-        if self.bounded == 0 || self.nodes[0].entry(ray, t_max) == f32::INFINITY {
+        if self.wide.is_empty() {
             return false;
         }
+        let boxes = RayBoxes::new(ray);
         let mut stack = [0u32; STACK_SIZE];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
-            let mut index = stack[sp];
-            loop {
-                let node = &self.nodes[index as usize];
-                if node.is_leaf() {
-                    let first = node.first as usize;
-                    let leaf = &self.primitives[first..first + node.count as usize];
-                    if leaf.iter().any(|p| p.intersect(ray, t_max, &self.data).is_some()) {
-                        return true;
-                    }
-                    break;
+            let node = &self.wide[stack[sp] as usize];
+            let t = node.entries(&boxes, t_max);
+            for lane in 0..WIDTH {
+                if t[lane] == f32::INFINITY {
+                    continue;
                 }
-                let (l, r) = (node.first, node.first + 1);
-                let hl = self.nodes[l as usize].entry(ray, t_max) != f32::INFINITY;
-                let hr = self.nodes[r as usize].entry(ray, t_max) != f32::INFINITY;
-                index = match (hl, hr) {
-                    (true, true) => {
-                        stack[sp] = r;
-                        sp += 1;
-                        l
-                    }
-                    (true, false) => l,
-                    (false, true) => r,
-                    (false, false) => break,
-                };
+                let count = node.count[lane] as usize;
+                if count == 0 {
+                    stack[sp] = node.child[lane];
+                    sp += 1;
+                    continue;
+                }
+                let first = node.child[lane] as usize;
+                if self.primitives[first..first + count]
+                    .iter()
+                    .any(|p| p.intersect(ray, t_max, &self.data).is_some())
+                {
+                    return true;
+                }
             }
         }
         false
@@ -215,7 +219,7 @@ impl Bvh {
     /// every child box inside its parent, every primitive box inside its leaf, depth
     /// within the traversal stack. Returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
-        if self.depth as usize >= STACK_SIZE {
+        if self.depth as usize >= MAX_DEPTH {
             return Err(format!("depth {} exceeds the stack", self.depth));
         }
         let mut seen = vec![0u8; self.bounded];

@@ -5,9 +5,11 @@
 mod build;
 mod bvh;
 mod node;
+mod wide;
 
 pub use bvh::{Bvh, BvhStats};
 pub use node::BvhNode;
+pub use wide::Node4;
 
 #[cfg(test)]
 mod tests;
