@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod geometry;
 pub mod math;
 pub mod nff;
 pub mod scene;
