@@ -1,0 +1,326 @@
+//! Conversion of a parsed [`Scene`] into render-time [`Geometry`].
+//!
+//! | NFF | becomes |
+//! |---|---|
+//! | `s` | one [`SphereShape`] |
+//! | `c` | one [`ConeShape`] |
+//! | `p 3` | one flat [`Triangle`] |
+//! | `p n`, convex | a fan of flat [`Triangle`]s from the first vertex |
+//! | `p n`, concave | one [`PolygonShape`] (a fan would cover the notches) |
+//! | `pp n` | a fan of [`Triangle`]s with vertex normals in [`GeometryData::patch_normals`] |
+//! | `pl` | one [`PlaneShape`] |
+//! | `aabb` | one [`BoxShape`] |
+//!
+//! Patches always become fans: the SPD's patches are triangles and a patch is meant
+//! to be a small convex piece of a smooth surface. A concave patch is therefore
+//! covered by its fan as well, which is wrong in its notches; this is accepted.
+//!
+//! Primitives come out kind by kind (spheres, cones, polygons, patches, planes,
+//! boxes), each kind in file order, so the result is deterministic.
+
+use super::{
+    BoxShape, ConeShape, Geometry, GeometryData, PlaneShape, PolygonShape, Primitive, Shape,
+    SourceKind, SphereShape, Triangle,
+};
+use crate::math::Vec3;
+use crate::scene::Scene;
+
+/// Converts every primitive of `scene` (see the module docs for the mapping).
+pub fn build_geometry(scene: &Scene) -> Geometry {
+    let mut g = Geometry::default();
+    g.primitives.reserve(scene.primitive_count());
+    let prims = &mut g.primitives;
+    let data = &mut g.data;
+    let mut push = |shape, material, line, kind| {
+        prims.push(Primitive {
+            shape,
+            material,
+            line,
+            kind,
+        })
+    };
+
+    for s in &scene.spheres {
+        let shape = Shape::Sphere(SphereShape::new(s.center, s.radius));
+        push(shape, s.material, s.line, SourceKind::Sphere);
+    }
+    for c in &scene.cones {
+        let shape = Shape::Cone(ConeShape::new(c.base, c.base_radius, c.apex, c.apex_radius));
+        push(shape, c.material, c.line, SourceKind::Cone);
+    }
+    for p in &scene.polygons {
+        let pts = scene.polygon_points(p);
+        let (m, line, kind) = (p.material, p.line, SourceKind::Polygon);
+        if pts.len() == 3 {
+            let tri = Triangle::new(pts[0], pts[1], pts[2], Triangle::FLAT);
+            push(Shape::Triangle(tri), m, line, kind);
+        } else if pts.len() <= PolygonShape::MAX_VERTICES && !is_convex(pts) {
+            push(Shape::Polygon(PolygonShape::new(pts, data)), m, line, kind);
+        } else {
+            for (a, b, c) in fan(pts) {
+                let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
+                push(Shape::Triangle(tri), m, line, kind);
+            }
+        }
+    }
+    for p in &scene.patches {
+        let (pts, normals) = scene.patch_points(p);
+        for (a, b, c) in fan(pts) {
+            let index = push_normals(data, [normals[a], normals[b], normals[c]]);
+            let tri = Triangle::new(pts[a], pts[b], pts[c], index);
+            push(Shape::Triangle(tri), p.material, p.line, SourceKind::Patch);
+        }
+    }
+    for p in &scene.planes {
+        let shape = Shape::Plane(PlaneShape::new(p.points));
+        push(shape, p.material, p.line, SourceKind::Plane);
+    }
+    for b in &scene.boxes {
+        let shape = Shape::Box(BoxShape::new(b.min, b.max));
+        push(shape, b.material, b.line, SourceKind::Box);
+    }
+    g
+}
+
+/// Appends three vertex normals and returns the index of the first, or
+/// [`Triangle::FLAT`] (pushing nothing) if the index would not fit in a `u32`.
+fn push_normals(data: &mut GeometryData, normals: [Vec3; 3]) -> u32 {
+    match u32::try_from(data.patch_normals.len()) {
+        Ok(i) if i <= u32::MAX - 3 => {
+            data.patch_normals.extend_from_slice(&normals);
+            i
+        }
+        _ => Triangle::FLAT,
+    }
+}
+
+/// The fan triangles `(0, i, i + 1)` of a polygon, leaving out those with exactly
+/// zero area (from collinear vertices), which could never be hit anyway.
+fn fan(pts: &[Vec3]) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+    (1..pts.len().saturating_sub(1))
+        .filter(move |&i| (pts[i] - pts[0]).cross(pts[i + 1] - pts[0]) != Vec3::ZERO)
+        .map(|i| (0, i, i + 1))
+}
+
+/// Is the polygon convex, so that a fan from its first vertex covers exactly it?
+///
+/// Tested in the plane the polygon projects onto with the largest area: every turn
+/// must go the same way (collinear consecutive vertices and repeated vertices are
+/// fine; a reversal, i.e. a spike, is not), and the turns must add up to a single
+/// revolution (a pentagram turns one way throughout but twice around).
+pub(crate) fn is_convex(pts: &[Vec3]) -> bool {
+    let axis = super::polygon::plane_normal(pts).dominant_axis();
+    let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
+    // Projected vertices without consecutive repeats (which have no direction).
+    let mut v: Vec<[f32; 2]> = Vec::with_capacity(pts.len());
+    for p in pts {
+        let q = [p[a1], p[a2]];
+        if v.last() != Some(&q) {
+            v.push(q);
+        }
+    }
+    while v.len() > 1 && v.first() == v.last() {
+        v.pop();
+    }
+    if v.len() < 3 {
+        return false;
+    }
+    let n = v.len();
+    let mut sign = 0.0f32;
+    let mut turning = 0.0f32;
+    for i in 0..n {
+        let (p0, p1, p2) = (v[(i + n - 1) % n], v[i], v[(i + 1) % n]);
+        let e_in = [p1[0] - p0[0], p1[1] - p0[1]];
+        let e_out = [p2[0] - p1[0], p2[1] - p1[1]];
+        let cross = e_in[0] * e_out[1] - e_in[1] * e_out[0];
+        let dot = e_in[0] * e_out[0] + e_in[1] * e_out[1];
+        // Collinear within f32 rounding of the edge lengths.
+        let tol = 1e-6 * e_in[0].hypot(e_in[1]) * e_out[0].hypot(e_out[1]);
+        if cross.abs() <= tol {
+            if dot < 0.0 {
+                return false;
+            }
+            continue;
+        }
+        if sign == 0.0 {
+            sign = cross.signum();
+        } else if cross.signum() != sign {
+            return false;
+        }
+        turning += cross.atan2(dot);
+    }
+    // One revolution is 2π; a doubly wound outline turns 4π.
+    sign != 0.0 && turning.abs() < 3.0 * std::f32::consts::PI
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Hit;
+    use crate::math::Ray;
+    use crate::nff::parse;
+
+    const INF: f32 = f32::INFINITY;
+
+    fn poly(xy: &[(f32, f32)]) -> Vec<Vec3> {
+        xy.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect()
+    }
+
+    #[test]
+    fn convexity_in_the_dominant_plane() {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        assert!(is_convex(&poly(&square)));
+        // Clockwise is just as convex.
+        let cw: Vec<_> = square.iter().rev().copied().collect();
+        assert!(is_convex(&poly(&cw)));
+        // Collinear midpoints and a repeated vertex.
+        let with_mid = [
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+        ];
+        assert!(is_convex(&poly(&with_mid)));
+        let ell = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ];
+        assert!(!is_convex(&poly(&ell)));
+        // A spike: goes out to (2, 0) and straight back.
+        let spike = [(0.0, 0.0), (2.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        assert!(!is_convex(&poly(&spike)));
+        let star: Vec<_> = (0..5)
+            .map(|i| {
+                let a = i as f32 * 4.0 * std::f32::consts::PI / 5.0;
+                (a.cos(), a.sin())
+            })
+            .collect();
+        assert!(!is_convex(&poly(&star)));
+        // A square standing in the x = 3 plane (dominant axis x).
+        let upright: Vec<_> = square.iter().map(|&(y, z)| Vec3::new(3.0, y, z)).collect();
+        assert!(is_convex(&upright));
+    }
+
+    const SCENE: &str = "v from 0 0 10 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
+        f 1 0 0 1 0 1 0 1\n\
+        s 0 0 0 1\n\
+        s 5 0 0 -2\n\
+        c 0 0 0 1 0 0 2 1\n\
+        p 3 0 0 0 1 0 0 0 1 0\n\
+        f 0 1 0 1 0 1 0 1\n\
+        p 4 0 0 1 2 0 1 2 2 1 0 2 1\n\
+        p 6 0 0 3 2 0 3 2 1 3 1 1 3 1 2 3 0 2 3\n\
+        pp 3 0 0 0 0 0 1 1 0 0 0 0 1 0 1 0 0 0 1\n\
+        pp 4 0 0 5 0 0 1 1 0 5 1 0 1 1 1 5 1 1 1 0 1 5 0 1 1\n\
+        pl 0 -1 0 0 -1 1 1 -1 0\n\
+        aabb -1 1 -2 2 -3 3\n";
+
+    fn count(g: &Geometry, f: fn(&Shape) -> bool) -> usize {
+        g.primitives.iter().filter(|p| f(&p.shape)).count()
+    }
+
+    #[test]
+    fn builds_every_kind_with_counts_and_provenance() {
+        let scene = parse(SCENE).unwrap();
+        let g = build_geometry(&scene);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Sphere(_))), 2);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Cone(_))), 1);
+        // p 3 → 1, p 4 → 2, pp 3 → 1, pp 4 → 2.
+        assert_eq!(count(&g, |s| matches!(s, Shape::Triangle(_))), 6);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Polygon(_))), 1);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Plane(_))), 1);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Box(_))), 1);
+        assert_eq!(g.primitives.len(), 12);
+        assert_eq!(g.data.polygon_points_2d.len(), 6);
+        assert_eq!(g.data.patch_normals.len(), 9);
+        let kinds: Vec<_> = g.primitives.iter().map(|p| p.kind).collect();
+        use SourceKind::*;
+        let expected = [
+            Sphere, Sphere, Cone, Polygon, Polygon, Polygon, Polygon, Patch, Patch, Patch, Plane,
+            Box,
+        ];
+        assert_eq!(kinds, expected);
+        let lines: Vec<_> = g.primitives.iter().map(|p| p.line).collect();
+        assert_eq!(lines, [3, 4, 5, 6, 8, 8, 9, 10, 11, 11, 12, 13]);
+        let materials: Vec<_> = g.primitives.iter().map(|p| p.material).collect();
+        assert_eq!(materials, [0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1]);
+        assert!(matches!(g.primitives[1].shape, Shape::Sphere(s) if s.inside));
+        assert!(g
+            .primitives
+            .iter()
+            .all(|p| p.bounds(&g.data).is_some() != (p.kind == Plane)));
+    }
+
+    /// Brute-force closest hit: the primitive's index and the hit.
+    fn first_hit(g: &Geometry, ray: &Ray) -> Option<(usize, Hit)> {
+        let mut best: Option<(usize, Hit)> = None;
+        for (i, p) in g.primitives.iter().enumerate() {
+            let t_max = best.map_or(INF, |b| b.1.t);
+            if let Some(h) = p.intersect(ray, t_max, &g.data) {
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn convex_quad_fan_covers_the_quad_exactly() {
+        let g = build_geometry(&parse("p 4 0 0 0 2 0 0 2 1 0 0 1 0\n").unwrap());
+        assert_eq!(g.primitives.len(), 2);
+        let down = Vec3::new(0.0, 0.0, -1.0);
+        for (x, y) in [(0.1, 0.1), (1.9, 0.1), (1.9, 0.9), (0.1, 0.9), (1.0, 0.5)] {
+            let ray = Ray::new(Vec3::new(x, y, 3.0), down);
+            let (i, h) = first_hit(&g, &ray).unwrap_or_else(|| panic!("({x}, {y})"));
+            assert_eq!(h.t, 3.0);
+            let sf = g.primitives[i].surface(&ray, &h, &g.data);
+            assert_eq!(sf.normal, Vec3::new(0.0, 0.0, 1.0));
+            assert!((sf.point - Vec3::new(x, y, 0.0)).length() < 1e-6);
+        }
+        for (x, y) in [(2.1, 0.5), (1.0, 1.1), (-0.1, 0.5)] {
+            assert_eq!(first_hit(&g, &Ray::new(Vec3::new(x, y, 3.0), down)), None);
+        }
+    }
+
+    #[test]
+    fn concave_polygon_stays_whole_and_misses_in_its_notch() {
+        let g = build_geometry(&parse("p 6 0 0 3 2 0 3 2 1 3 1 1 3 1 2 3 0 2 3\n").unwrap());
+        assert_eq!(g.primitives.len(), 1);
+        let down = Vec3::new(0.0, 0.0, -1.0);
+        let hit = first_hit(&g, &Ray::new(Vec3::new(1.5, 0.5, 5.0), down)).unwrap();
+        assert_eq!((hit.0, hit.1.t), (0, 2.0));
+        assert_eq!(
+            first_hit(&g, &Ray::new(Vec3::new(1.5, 1.5, 5.0), down)),
+            None
+        );
+    }
+
+    #[test]
+    fn patch_fan_carries_its_vertex_normals() {
+        let src = "pp 4 0 0 0 0 0 1  1 0 0 1 0 0  1 1 0 0 1 0  0 1 0 1 1 1\n";
+        let g = build_geometry(&parse(src).unwrap());
+        assert_eq!(g.primitives.len(), 2);
+        let n = &g.data.patch_normals;
+        // Second fan triangle (v0, v2, v3).
+        assert_eq!(
+            n[3..6],
+            [
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::ONE
+            ]
+        );
+        // At vertex v2 = (1, 1, 0), the shading normal is v2's normal.
+        let ray = Ray::new(Vec3::new(1.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        let p = &g.primitives[1];
+        let h = p.intersect(&ray, INF, &g.data).unwrap();
+        let sf = p.surface(&ray, &h, &g.data);
+        assert_eq!(sf.shading_normal, Vec3::new(0.0, 1.0, 0.0));
+        assert_eq!(sf.normal, Vec3::new(0.0, 0.0, 1.0));
+    }
+}

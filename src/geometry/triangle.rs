@@ -1,0 +1,331 @@
+//! Triangles: `p 3` polygons, the fans of convex polygons, and the fans of patches
+//! (`pp`), which add per-vertex normals for smooth shading.
+//!
+//! Intersection is Möller and Trumbore, "Fast, Minimum Storage Ray/Triangle
+//! Intersection" (JGT 1997), two-sided (no culling). Its edge inequalities
+//! `u ≥ 0, v ≥ 0, u + v ≤ 1` are inclusive, so a ray through an edge shared by two
+//! triangles hits at least one of them.
+
+use super::{GeometryData, Hit, Surface};
+use crate::math::{Aabb, Ray, Vec3};
+
+/// A triangle ready for intersection: a vertex and the two edges leaving it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// First vertex `v0`.
+    pub v0: Vec3,
+    /// `v1 − v0`.
+    pub e1: Vec3,
+    /// `v2 − v0`.
+    pub e2: Vec3,
+    /// Index of the first of three consecutive vertex normals (for `v0`, `v1`, `v2`)
+    /// in [`GeometryData::patch_normals`]; [`Triangle::FLAT`] for none.
+    pub normals: u32,
+}
+
+impl Triangle {
+    /// The `normals` value of a triangle without vertex normals.
+    pub const FLAT: u32 = u32::MAX;
+
+    /// Builds a triangle; its front is the side from which `v0, v1, v2` run
+    /// counter-clockwise. `normals` indexes [`GeometryData::patch_normals`] or is
+    /// [`Triangle::FLAT`].
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3, normals: u32) -> Triangle {
+        Triangle {
+            v0,
+            e1: v1 - v0,
+            e2: v2 - v0,
+            normals,
+        }
+    }
+
+    /// Bounding box of the three vertices.
+    #[inline]
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.v0, self.v0 + self.e1).grow(self.v0 + self.e2)
+    }
+
+    /// The unit geometric normal `normalize(e1 × e2)` (zero for a degenerate triangle).
+    #[inline]
+    pub fn geometric_normal(&self) -> Vec3 {
+        self.e1.cross(self.e2).normalize()
+    }
+
+    /// Phase one: the hit with `0 < t < t_max`, with barycentrics `u` (weight of `v1`)
+    /// and `v` (weight of `v2`).
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        // Möller–Trumbore: solve o + t·d = v0 + u·e1 + v·e2 by Cramer's rule.
+        let p = ray.dir.cross(self.e2);
+        let det = self.e1.dot(p);
+        // A ray parallel to the plane (or a degenerate triangle) has det = 0.
+        if det == 0.0 {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        let s = ray.origin - self.v0;
+        let u = s.dot(p) * inv_det;
+        // `contains` and the negated test below both reject a NaN.
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(self.e1);
+        let v = ray.dir.dot(q) * inv_det;
+        if !(v >= 0.0 && u + v <= 1.0) {
+            return None;
+        }
+        let t = self.e2.dot(q) * inv_det;
+        (t > 0.0 && t < t_max).then_some(Hit { t, u, v })
+    }
+
+    /// Phase two: the point (from the barycentrics, so it lies in the plane), the
+    /// geometric normal, and for patches the interpolated vertex normal.
+    #[inline]
+    pub fn surface(&self, _ray: &Ray, hit: &Hit, data: &GeometryData) -> Surface {
+        let point = self.v0 + self.e1 * hit.u + self.e2 * hit.v;
+        let normal = self.geometric_normal();
+        let shading_normal = self.shading_normal(hit.u, hit.v, normal, data);
+        Surface {
+            point,
+            normal,
+            shading_normal,
+        }
+    }
+
+    /// The interpolated vertex normal at barycentrics `(u, v)`, unit length and on the
+    /// side of `geometric`; `geometric` itself for flat triangles and whenever the
+    /// vertex normals interpolate to nothing usable (zero, NaN, missing).
+    fn shading_normal(&self, u: f32, v: f32, geometric: Vec3, data: &GeometryData) -> Vec3 {
+        if self.normals == Self::FLAT {
+            return geometric;
+        }
+        let i = self.normals as usize;
+        let Some(ns) = data.patch_normals.get(i..i + 3) else {
+            return geometric;
+        };
+        let n = ns[0] * (1.0 - u - v) + ns[1] * u + ns[2] * v;
+        let l2 = n.length_squared();
+        if !(l2 > 0.0 && l2.is_finite()) {
+            return geometric;
+        }
+        let n = n * (1.0 / l2.sqrt());
+        if n.dot(geometric) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const INF: f32 = f32::INFINITY;
+
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() <= 1e-6 * (1.0 + b.abs())
+    }
+
+    fn close_v(a: Vec3, b: Vec3) -> bool {
+        close(a.x, b.x) && close(a.y, b.y) && close(a.z, b.z)
+    }
+
+    /// The right triangle (0,0,0), (1,0,0), (0,1,0) in the z = 0 plane, front +z.
+    fn tri() -> Triangle {
+        Triangle::new(
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Triangle::FLAT,
+        )
+    }
+
+    fn down_at(x: f32, y: f32) -> Ray {
+        Ray::new(Vec3::new(x, y, 2.0), Vec3::new(0.0, 0.0, -1.0))
+    }
+
+    #[test]
+    fn hit_from_front_gives_t_barycentrics_point_normal() {
+        let t = tri();
+        let ray = down_at(0.25, 0.5);
+        let h = t.intersect(&ray, INF).unwrap();
+        assert!(close(h.t, 2.0) && close(h.u, 0.25) && close(h.v, 0.5));
+        let sf = t.surface(&ray, &h, &GeometryData::default());
+        assert!(close_v(sf.point, Vec3::new(0.25, 0.5, 0.0)));
+        assert_eq!(sf.normal, Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(sf.shading_normal, sf.normal);
+    }
+
+    #[test]
+    fn back_side_hit_counts_and_keeps_winding_normal() {
+        let t = tri();
+        let ray = Ray::new(Vec3::new(0.2, 0.2, -3.0), Vec3::new(0.0, 0.0, 2.0));
+        let h = t.intersect(&ray, INF).unwrap();
+        assert!(close(h.t, 1.5));
+        let sf = t.surface(&ray, &h, &GeometryData::default());
+        assert_eq!(sf.normal, Vec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn edges_and_vertices_are_inclusive() {
+        let t = tri();
+        for (x, y) in [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (0.0, 1.0),
+            (0.5, 0.0),
+            (0.0, 0.5),
+            (0.5, 0.5),
+        ] {
+            assert!(t.intersect(&down_at(x, y), INF).is_some(), "({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn shared_edge_has_no_crack() {
+        // The unit square split along its diagonal; rays along the diagonal hit one.
+        let a = tri();
+        let b = Triangle::new(
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Triangle::FLAT,
+        );
+        for i in 0..=64 {
+            let x = i as f32 / 64.0;
+            let ray = down_at(x, 1.0 - x);
+            assert!(
+                a.intersect(&ray, INF).is_some() || b.intersect(&ray, INF).is_some(),
+                "crack at x = {x}"
+            );
+        }
+    }
+
+    #[test]
+    fn misses_outside_parallel_and_grazing_in_plane() {
+        let t = tri();
+        assert_eq!(t.intersect(&down_at(0.6, 0.6), INF), None);
+        assert_eq!(t.intersect(&down_at(-0.01, 0.5), INF), None);
+        // In the plane of the triangle: parallel, no hit.
+        let ray = Ray::new(Vec3::new(-1.0, 0.2, 0.0), Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(t.intersect(&ray, INF), None);
+    }
+
+    #[test]
+    fn behind_origin_and_t_max() {
+        let t = tri();
+        let ray = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::new(0.0, 0.0, -1.0));
+        assert_eq!(t.intersect(&ray, INF), None);
+        let ray = down_at(0.2, 0.2);
+        assert_eq!(t.intersect(&ray, 2.0), None);
+        assert!(t.intersect(&ray, 2.001).is_some());
+    }
+
+    #[test]
+    fn axis_aligned_ray_with_infinite_inv_dir() {
+        let t = Triangle::new(
+            Vec3::new(0.0, -1.0, -1.0),
+            Vec3::new(0.0, 1.0, -1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            Triangle::FLAT,
+        );
+        let ray = Ray::new(Vec3::new(-4.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
+        let h = t.intersect(&ray, INF).unwrap();
+        assert!(close(h.t, 4.0));
+        // (0,0,0) = 0.25 v0 + 0.25 v1 + 0.5 v2.
+        assert!(close(h.u, 0.25) && close(h.v, 0.5));
+    }
+
+    fn patch(normals: [Vec3; 3]) -> (Triangle, GeometryData) {
+        let data = GeometryData {
+            patch_normals: normals.to_vec(),
+            ..Default::default()
+        };
+        let t = Triangle::new(
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            0,
+        );
+        (t, data)
+    }
+
+    #[test]
+    fn patch_normal_is_vertex_normal_at_vertex_and_mean_at_centroid() {
+        let n0 = Vec3::new(0.0, 0.0, 1.0);
+        let n1 = Vec3::new(1.0, 0.0, 0.0);
+        let n2 = Vec3::new(0.0, 1.0, 0.0);
+        let (t, data) = patch([n0, n1, n2]);
+        let ray = down_at(1.0, 0.0);
+        let h = t.intersect(&ray, INF).unwrap();
+        let sf = t.surface(&ray, &h, &data);
+        assert!(close_v(sf.shading_normal, n1));
+        assert_eq!(sf.normal, Vec3::new(0.0, 0.0, 1.0));
+        let ray = down_at(1.0 / 3.0, 1.0 / 3.0);
+        let h = t.intersect(&ray, INF).unwrap();
+        let sf = t.surface(&ray, &h, &data);
+        let k = 1.0 / 3.0f32.sqrt();
+        assert!(close_v(sf.shading_normal, Vec3::new(k, k, k)));
+    }
+
+    #[test]
+    fn patch_normal_is_flipped_to_the_geometric_side() {
+        let n = Vec3::new(0.0, 0.6, -0.8);
+        let (t, data) = patch([n, n, n]);
+        let ray = down_at(0.2, 0.2);
+        let h = t.intersect(&ray, INF).unwrap();
+        let sf = t.surface(&ray, &h, &data);
+        assert!(close_v(sf.shading_normal, Vec3::new(0.0, -0.6, 0.8)));
+    }
+
+    #[test]
+    fn zero_or_missing_patch_normals_fall_back_to_geometric() {
+        let (t, data) = patch([Vec3::ZERO; 3]);
+        let ray = down_at(0.2, 0.2);
+        let h = t.intersect(&ray, INF).unwrap();
+        assert_eq!(
+            t.surface(&ray, &h, &data).shading_normal,
+            Vec3::new(0.0, 0.0, 1.0)
+        );
+        // Normals that cancel at this point.
+        let a = Vec3::new(1.0, 0.0, 0.0);
+        let (t, data) = patch([a, -a, Vec3::ZERO]);
+        let ray = down_at(0.5, 0.0);
+        let h = t.intersect(&ray, INF).unwrap();
+        assert_eq!(
+            t.surface(&ray, &h, &data).shading_normal,
+            Vec3::new(0.0, 0.0, 1.0)
+        );
+        // An index past the end of the table.
+        let (t, _) = patch([a; 3]);
+        let h = t.intersect(&ray, INF).unwrap();
+        let sf = t.surface(&ray, &h, &GeometryData::default());
+        assert_eq!(sf.shading_normal, Vec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn degenerate_triangle_never_hits() {
+        let t = Triangle::new(
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Triangle::FLAT,
+        );
+        assert_eq!(t.intersect(&down_at(0.5, 0.0), INF), None);
+    }
+
+    #[test]
+    fn bounds_hold_the_vertices() {
+        let t = Triangle::new(
+            Vec3::new(1.0, -2.0, 0.5),
+            Vec3::new(-1.0, 3.0, 0.0),
+            Vec3::new(0.0, 0.0, 4.0),
+            Triangle::FLAT,
+        );
+        assert_eq!(
+            t.bounds(),
+            Aabb::new(Vec3::new(-1.0, -2.0, 0.0), Vec3::new(1.0, 3.0, 4.0))
+        );
+    }
+}
