@@ -20,6 +20,8 @@ pub mod cone;
 mod convert;
 pub mod plane;
 pub mod polygon;
+#[cfg(test)]
+mod proptests;
 pub mod sphere;
 pub mod triangle;
 
