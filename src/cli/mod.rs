@@ -1,6 +1,7 @@
 //! Subcommands of the `nffrt` binary and the shared plumbing: loading scenes,
 //! reporting errors with their exit codes.
 
+mod gen;
 mod info;
 mod load;
 
@@ -50,7 +51,7 @@ impl CliError {
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None)]
 #[command(after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats")]
+Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -58,6 +59,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Write one of the SPD's classic scenes (balls, gears, mount, rings, teapot, tetra, tree) as NFF.
+    Gen(gen::GenArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
 }
@@ -72,6 +75,7 @@ pub fn run() -> i32 {
         }
     };
     let result = match cli.command {
+        Command::Gen(a) => gen::run(a),
         Command::Info(a) => info::run(a),
     };
     match result {
