@@ -4,7 +4,7 @@
 //! Procedural Databases. The pipeline: [`nff::parse`] text into a [`Scene`];
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
-//! [`image`] encodes it.
+//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes at any size.
 //!
 //! ```
 //! use nffrt::{accel::Bvh, geometry::build_geometry, render::{render, RenderOptions}};
@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 
 pub mod accel;
+pub mod gen;
 pub mod geometry;
 pub mod image;
 pub mod math;

@@ -4,6 +4,8 @@
 //! material table and the file line it came from (for diagnostics and `--pixel`).
 //! Polygon and patch vertices live in shared vectors that the primitives index into,
 //! so a scene with millions of primitives makes no per-primitive heap allocation.
+//! A generated scene ([`crate::gen`]) numbers its primitives with the lines they
+//! occupy when [`crate::nff::write_nff`] writes it, which also fixes their order there.
 
 use crate::math::{Aabb, Vec3};
 

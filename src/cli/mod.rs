@@ -2,6 +2,7 @@
 //! reporting errors with their exit codes.
 
 mod bench;
+mod gen;
 mod info;
 mod interrupt;
 mod load;
@@ -65,7 +66,7 @@ impl CliError {
 #[command(name = "nffrt", version, about, long_about = None)]
 #[command(
     after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats"
+Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -74,6 +75,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Write one of the SPD's classic scenes (balls, gears, mount, rings, teapot, tetra, tree) as NFF.
+    Gen(gen::GenArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
     /// Render a scene to an image (PNG, PPM or PFM).
@@ -94,6 +97,7 @@ pub fn run() -> i32 {
     };
     interrupt::install();
     let result = match cli.command {
+        Command::Gen(a) => gen::run(a),
         Command::Info(a) => info::run(a),
         Command::Render(a) => render::run(a),
         Command::Bench(a) => bench::run(a),

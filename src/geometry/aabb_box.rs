@@ -186,8 +186,7 @@ mod tests {
         // From (−3, −3, 0) along (1, 1, 0): enters the y slab at t = 1 and the x slab
         // at t = 2, so it enters the box at t = 2 through the x = −1 face.
         let b = bx();
-        let (t, p, n) =
-            hit_normal(&b, Vec3::new(-3.0, -3.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
+        let (t, p, n) = hit_normal(&b, Vec3::new(-3.0, -3.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
         assert_eq!(
             (t, p, n),
             (2.0, Vec3::new(-1.0, -1.0, 0.0), Vec3::new(-1.0, 0.0, 0.0))
@@ -199,8 +198,7 @@ mod tests {
         let b = bx();
         let (t, _, n) = hit_normal(&b, Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
         assert_eq!((t, n), (3.0, Vec3::new(0.0, 0.0, 1.0)));
-        let (t, _, n) =
-            hit_normal(&b, Vec3::new(0.5, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0)).unwrap();
+        let (t, _, n) = hit_normal(&b, Vec3::new(0.5, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0)).unwrap();
         assert_eq!((t, n), (1.5, Vec3::new(-1.0, 0.0, 0.0)));
         let (t, p, n) = hit_normal(&b, Vec3::ZERO, Vec3::new(0.0, 1.0, 1.0)).unwrap();
         assert_eq!(
@@ -233,8 +231,7 @@ mod tests {
         let (t, _, n) = hit_normal(&b, Vec3::new(-5.0, 1.999, 0.0), along).unwrap();
         assert_eq!((t, n), (4.0, Vec3::new(-1.0, 0.0, 0.0)));
         // Through the edge x = −1, y = −2: a hit at the corner line, finite normal.
-        let (t, _, n) =
-            hit_normal(&b, Vec3::new(-3.0, -4.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
+        let (t, _, n) = hit_normal(&b, Vec3::new(-3.0, -4.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap();
         assert_eq!(t, 2.0);
         assert!(n == Vec3::new(-1.0, 0.0, 0.0) || n == Vec3::new(0.0, -1.0, 0.0));
     }

@@ -204,10 +204,7 @@ mod tests {
         let ray = x_ray(0.6, 0.5);
         let h = c.intersect(&ray, INF).unwrap();
         assert!(close(h.t, 4.2));
-        assert!(close_v(
-            c.surface(&ray, &h).normal,
-            Vec3::new(-0.8, 0.6, 0.0)
-        ));
+        assert!(close_v(c.surface(&ray, &h).normal, Vec3::new(-0.8, 0.6, 0.0)));
     }
 
     #[test]
@@ -216,10 +213,7 @@ mod tests {
         let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0));
         let h = c.intersect(&ray, INF).unwrap();
         assert!(close(h.t, 1.0));
-        assert!(close_v(
-            c.surface(&ray, &h).normal,
-            Vec3::new(1.0, 0.0, 0.0)
-        ));
+        assert!(close_v(c.surface(&ray, &h).normal, Vec3::new(1.0, 0.0, 0.0)));
         // In through the open top (z = 2 at x = 0.5), onto the inner wall at z = 1.
         let ray = Ray::new(Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.5, 0.0, -1.0));
         let h = c.intersect(&ray, INF).unwrap();
@@ -311,10 +305,7 @@ mod tests {
         let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 0.0));
         let h = c.intersect(&ray, INF).unwrap();
         assert!(close(h.t, 1.0));
-        assert!(close_v(
-            c.surface(&ray, &h).normal,
-            Vec3::new(0.0, -1.0, 0.0)
-        ));
+        assert!(close_v(c.surface(&ray, &h).normal, Vec3::new(0.0, -1.0, 0.0)));
         // Leaving the cylinder outward from outside: nothing.
         let ray = Ray::new(Vec3::new(2.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0));
         assert_eq!(c.intersect(&ray, INF), None);

@@ -19,8 +19,8 @@
 //! boxes), each kind in file order, so the result is deterministic.
 
 use super::{
-    BoxShape, ConeShape, Geometry, GeometryData, PlaneShape, PolygonShape, Primitive, Shape,
-    SourceKind, SphereShape, Triangle,
+    BoxShape, ConeShape, Geometry, GeometryData, PlaneShape, PolygonShape, Primitive, Shape, SourceKind,
+    SphereShape, Triangle,
 };
 use crate::math::Vec3;
 use crate::scene::Scene;
@@ -242,8 +242,7 @@ mod tests {
         let kinds: Vec<_> = g.primitives.iter().map(|p| p.kind).collect();
         use SourceKind::*;
         let expected = [
-            Sphere, Sphere, Cone, Polygon, Polygon, Polygon, Polygon, Patch, Patch, Patch, Plane,
-            Box,
+            Sphere, Sphere, Cone, Polygon, Polygon, Polygon, Polygon, Patch, Patch, Patch, Plane, Box,
         ];
         assert_eq!(kinds, expected);
         let lines: Vec<_> = g.primitives.iter().map(|p| p.line).collect();
@@ -294,10 +293,7 @@ mod tests {
         let down = Vec3::new(0.0, 0.0, -1.0);
         let hit = first_hit(&g, &Ray::new(Vec3::new(1.5, 0.5, 5.0), down)).unwrap();
         assert_eq!((hit.0, hit.1.t), (0, 2.0));
-        assert_eq!(
-            first_hit(&g, &Ray::new(Vec3::new(1.5, 1.5, 5.0), down)),
-            None
-        );
+        assert_eq!(first_hit(&g, &Ray::new(Vec3::new(1.5, 1.5, 5.0), down)), None);
     }
 
     #[test]
@@ -309,11 +305,7 @@ mod tests {
         // Second fan triangle (v0, v2, v3).
         assert_eq!(
             n[3..6],
-            [
-                Vec3::new(0.0, 0.0, 1.0),
-                Vec3::new(0.0, 1.0, 0.0),
-                Vec3::ONE
-            ]
+            [Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 0.0), Vec3::ONE]
         );
         // At vertex v2 = (1, 1, 0), the shading normal is v2's normal.
         let ray = Ray::new(Vec3::new(1.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -1.0));

@@ -70,11 +70,7 @@ mod tests {
     #[test]
     fn normal_follows_counter_clockwise_order() {
         assert_eq!(floor().normal, Vec3::new(0.0, 1.0, 0.0));
-        let p = PlaneShape::new([
-            Vec3::ZERO,
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(0.0, 3.0, 0.0),
-        ]);
+        let p = PlaneShape::new([Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0)]);
         assert_eq!(p.normal, Vec3::new(0.0, 0.0, 1.0));
     }
 

@@ -307,8 +307,8 @@ mod tests {
         .map(|(x, y)| Vec3::new(x, y, 0.0));
         assert_eq!(plane_normal(&pts), Vec3::new(0.0, 0.0, 1.0));
         // First three collinear: Newell's orientation stands.
-        let pts = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]
-            .map(|(x, y)| Vec3::new(x, y, 0.0));
+        let pts =
+            [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)].map(|(x, y)| Vec3::new(x, y, 0.0));
         assert_eq!(plane_normal(&pts), Vec3::new(0.0, 0.0, 1.0));
         // The shape's own normal is the same, and the notch still misses.
         let pts = [
@@ -324,10 +324,7 @@ mod tests {
         let p = PolygonShape::new(&pts, &mut data);
         assert_eq!(p.normal, Vec3::new(0.0, 0.0, -1.0));
         assert!(close(p.offset, -1.0));
-        assert!(close(
-            p.intersect(&down_at(0.5, 0.5), INF, &data).unwrap().t,
-            4.0
-        ));
+        assert!(close(p.intersect(&down_at(0.5, 0.5), INF, &data).unwrap().t, 4.0));
         assert_eq!(p.intersect(&down_at(1.5, 1.5), INF, &data), None);
     }
 
@@ -337,8 +334,7 @@ mod tests {
         // twice (even), its points once.
         let pts: Vec<[f32; 2]> = (0..5)
             .map(|i| {
-                let a =
-                    std::f32::consts::FRAC_PI_2 + (i * 2) as f32 * 2.0 * std::f32::consts::PI / 5.0;
+                let a = std::f32::consts::FRAC_PI_2 + (i * 2) as f32 * 2.0 * std::f32::consts::PI / 5.0;
                 [a.cos(), a.sin()]
             })
             .collect();

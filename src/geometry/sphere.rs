@@ -256,9 +256,6 @@ mod tests {
     #[test]
     fn bounds_enclose_the_sphere() {
         let b = SphereShape::new(Vec3::new(1.0, 2.0, 3.0), -0.5).bounds();
-        assert_eq!(
-            b,
-            Aabb::new(Vec3::new(0.5, 1.5, 2.5), Vec3::new(1.5, 2.5, 3.5))
-        );
+        assert_eq!(b, Aabb::new(Vec3::new(0.5, 1.5, 2.5), Vec3::new(1.5, 2.5, 3.5)));
     }
 }

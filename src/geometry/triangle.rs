@@ -242,12 +242,7 @@ mod tests {
             patch_normals: normals.to_vec(),
             ..Default::default()
         };
-        let t = Triangle::new(
-            Vec3::ZERO,
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            0,
-        );
+        let t = Triangle::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), 0);
         (t, data)
     }
 
