@@ -42,15 +42,19 @@ impl BoxShape {
         Aabb::new(self.min, self.max)
     }
 
-    /// Crosses the three slabs. Where a direction component is zero, `inv_dir` is
+    /// Crosses the three slabs. Where a direction component is zero, the reciprocal is
     /// infinite: the slab distances are ±∞ (the ray never leaves or never enters
     /// that slab), or one of them is NaN (0·∞) when the origin lies exactly on a face
     /// plane. `f32::min`/`max` drop that NaN and keep the other, infinite, distance,
     /// so a ray running exactly within a face's plane misses, on every face alike.
     #[inline]
     fn slabs(&self, ray: &Ray) -> Slabs {
-        let t0 = (self.min - ray.origin).mul_elem(ray.inv_dir);
-        let t1 = (self.max - ray.origin).mul_elem(ray.inv_dir);
+        // The exact reciprocal (infinite for a zero component), not `ray.inv_dir`, which
+        // is clamped finite for the BVH and would make face planes asymmetric here.
+        let d = ray.dir;
+        let inv = Vec3::new(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
+        let t0 = (self.min - ray.origin).mul_elem(inv);
+        let t1 = (self.max - ray.origin).mul_elem(inv);
         let mut s = Slabs {
             enter: f32::NEG_INFINITY,
             enter_axis: 0,
