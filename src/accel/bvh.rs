@@ -107,6 +107,7 @@ impl Bvh {
 
     /// The nearest hit with `0 < t < t_max`, and the index of the primitive hit.
     #[inline]
+    #[allow(clippy::needless_range_loop)] // a lane indexes several parallel arrays
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
         let mut best: Option<(Hit, u32)> = None;
         let mut t_best = t_max;
@@ -163,6 +164,7 @@ impl Bvh {
 
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
     #[inline]
+    #[allow(clippy::needless_range_loop)] // a lane indexes several parallel arrays
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         if self.primitives[self.bounded..]
             .iter()
@@ -236,14 +238,18 @@ impl Bvh {
         let node = &self.nodes[index];
         let b = node.bounds();
         if node.is_leaf() {
-            for i in node.first as usize..(node.first + node.count) as usize {
-                let pb = self.primitives[i]
-                    .bounds(&self.data)
-                    .ok_or("unbounded primitive in a leaf")?;
+            let first = node.first as usize;
+            let leaf = first..first + node.count as usize;
+            for (i, (p, count)) in self.primitives[leaf.clone()]
+                .iter()
+                .zip(&mut seen[leaf])
+                .enumerate()
+            {
+                let pb = p.bounds(&self.data).ok_or("unbounded primitive in a leaf")?;
                 if !b.contains(&pb) {
-                    return Err(format!("primitive {i} sticks out of leaf {index}"));
+                    return Err(format!("primitive {} sticks out of leaf {index}", first + i));
                 }
-                seen[i] = seen[i].saturating_add(1);
+                *count = count.saturating_add(1);
             }
             return Ok(());
         }
