@@ -1,0 +1,52 @@
+//! BVH build, closest-hit and occlusion queries on generated SPD scenes
+//! (one primary ray per pixel centre at 256x256, single thread).
+
+mod common;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use nffrt::accel::Bvh;
+use nffrt::gen::SpdScene;
+use nffrt::geometry::build_geometry;
+use std::hint::black_box;
+
+const SCENES: [(SpdScene, u32); 3] = [(SpdScene::Tetra, 6), (SpdScene::Balls, 4), (SpdScene::Mount, 6)];
+
+fn bvh_build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("bvh_build");
+    for (which, size) in SCENES {
+        let scene = common::scene(which, size);
+        group.bench_function(which.name(), |b| {
+            b.iter(|| Bvh::new(build_geometry(black_box(&scene))))
+        });
+    }
+    group.finish();
+}
+
+fn queries(c: &mut Criterion) {
+    for (group_name, occlusion) in [("closest_hit", false), ("occluded", true)] {
+        let mut group = c.benchmark_group(group_name);
+        for (which, size) in SCENES {
+            let scene = common::scene(which, size);
+            let bvh = Bvh::new(build_geometry(&scene));
+            let rays = common::primary_rays(&scene, 256, 256);
+            group.throughput(Throughput::Elements(rays.len() as u64));
+            group.bench_function(which.name(), |b| {
+                b.iter(|| {
+                    rays.iter()
+                        .filter(|r| {
+                            if occlusion {
+                                bvh.occluded(r, f32::INFINITY)
+                            } else {
+                                bvh.closest_hit(r, f32::INFINITY).is_some()
+                            }
+                        })
+                        .count()
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bvh_build, queries);
+criterion_main!(benches);
