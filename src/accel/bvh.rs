@@ -1,6 +1,8 @@
 //! The BVH over a scene's primitives and its two queries, `closest_hit` and `occluded`.
 
 use super::build;
+use std::cell::RefCell;
+
 use super::node::BvhNode;
 use super::wide::{self, Node4, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive};
@@ -8,8 +10,46 @@ use crate::math::{Ray, Vec3};
 
 /// Depth limit of the binary tree (the builder stays well below it).
 const MAX_DEPTH: usize = 64;
-/// Traversal stack size: each wide node pushes at most `WIDTH - 1` entries.
-const STACK_SIZE: usize = MAX_DEPTH * (WIDTH - 1);
+
+thread_local! {
+    /// Each thread's traversal stack of (wide node, entry distance), reused across
+    /// queries so that no query pays for allocating or clearing one.
+    static STACK: RefCell<Vec<(u32, f32)>> = RefCell::new(Vec::with_capacity(256));
+}
+
+/// Traversal counters (feature `counters`): wide nodes visited, primitives tested.
+#[cfg(feature = "counters")]
+pub mod counters {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    /// Wide nodes visited.
+    pub static NODES: AtomicU64 = AtomicU64::new(0);
+    /// Primitive intersection tests.
+    pub static PRIMS: AtomicU64 = AtomicU64::new(0);
+    /// Adds to a counter.
+    #[inline(always)]
+    pub fn add(c: &AtomicU64, n: u64) {
+        c.fetch_add(n, Ordering::Relaxed);
+    }
+}
+
+macro_rules! count {
+    ($c:ident, $n:expr) => {
+        #[cfg(feature = "counters")]
+        counters::add(&counters::$c, $n as u64);
+    };
+}
+
+/// Insertion sort by decreasing distance (at most `WIDTH` entries).
+#[inline(always)]
+fn sort_descending(v: &mut [(u32, f32)]) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].1 < v[j].1 {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
 
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
 /// (planes) kept beside it and tested linearly.
@@ -107,7 +147,6 @@ impl Bvh {
 
     /// The nearest hit with `0 < t < t_max`, and the index of the primitive hit.
     #[inline]
-    #[allow(clippy::needless_range_loop)] // a lane indexes several parallel arrays
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
         let mut best: Option<(Hit, u32)> = None;
         let mut t_best = t_max;
@@ -121,50 +160,50 @@ impl Bvh {
             return best;
         }
         let boxes = RayBoxes::new(ray);
-        let mut stack = [(0u32, 0.0f32); STACK_SIZE];
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let (index, t_entry) = stack[sp];
-            if t_entry >= t_best {
-                continue;
-            }
-            let node = &self.wide[index as usize];
-            let t = node.entries(&boxes, t_best);
-            let mut inner = [(0u32, 0.0f32); WIDTH];
-            let mut n_inner = 0;
-            for lane in 0..WIDTH {
-                if t[lane] >= t_best {
+        STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            stack.push((0, 0.0));
+            while let Some((index, t_entry)) = stack.pop() {
+                if t_entry >= t_best {
                     continue;
                 }
-                let count = node.count[lane] as usize;
-                if count == 0 {
-                    inner[n_inner] = (node.child[lane], t[lane]);
-                    n_inner += 1;
-                    continue;
-                }
-                let first = node.child[lane] as usize;
-                for (k, p) in self.primitives[first..first + count].iter().enumerate() {
-                    if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                        t_best = h.t;
-                        best = Some((h, (first + k) as u32));
+                let node = &self.wide[index as usize];
+                count!(NODES, 1);
+                let (t, mut mask) = node.entries(&boxes, t_best, t_best);
+                let mut inner = [(0u32, 0.0f32); WIDTH];
+                let mut n_inner = 0;
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let count = node.count[lane] as usize;
+                    if count == 0 {
+                        inner[n_inner] = (node.child[lane], t[lane]);
+                        n_inner += 1;
+                        continue;
+                    }
+                    if t[lane] >= t_best {
+                        continue;
+                    }
+                    let first = node.child[lane] as usize;
+                    count!(PRIMS, count);
+                    for (k, p) in self.primitives[first..first + count].iter().enumerate() {
+                        if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                            t_best = h.t;
+                            best = Some((h, (first + k) as u32));
+                        }
                     }
                 }
+                // Push far to near so that the nearest child is popped first.
+                let inner = &mut inner[..n_inner];
+                sort_descending(inner);
+                stack.extend_from_slice(inner);
             }
-            // Push far to near so the nearest child is popped first.
-            let inner = &mut inner[..n_inner];
-            inner.sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
-            for &entry in inner.iter() {
-                stack[sp] = entry;
-                sp += 1;
-            }
-        }
+        });
         best
     }
 
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
     #[inline]
-    #[allow(clippy::needless_range_loop)] // a lane indexes several parallel arrays
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         if self.primitives[self.bounded..]
             .iter()
@@ -176,32 +215,31 @@ impl Bvh {
             return false;
         }
         let boxes = RayBoxes::new(ray);
-        let mut stack = [0u32; STACK_SIZE];
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let node = &self.wide[stack[sp] as usize];
-            let t = node.entries(&boxes, t_max);
-            for lane in 0..WIDTH {
-                if t[lane] == f32::INFINITY {
-                    continue;
-                }
-                let count = node.count[lane] as usize;
-                if count == 0 {
-                    stack[sp] = node.child[lane];
-                    sp += 1;
-                    continue;
-                }
-                let first = node.child[lane] as usize;
-                if self.primitives[first..first + count]
-                    .iter()
-                    .any(|p| p.intersect(ray, t_max, &self.data).is_some())
-                {
-                    return true;
+        STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            stack.push((0, 0.0));
+            while let Some((index, _)) = stack.pop() {
+                let node = &self.wide[index as usize];
+                count!(NODES, 1);
+                let (_, mut mask) = node.entries(&boxes, t_max, f32::INFINITY);
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let count = node.count[lane] as usize;
+                    if count == 0 {
+                        stack.push((node.child[lane], 0.0));
+                        continue;
+                    }
+                    let first = node.child[lane] as usize;
+                    let leaf = &self.primitives[first..first + count];
+                    count!(PRIMS, count);
+                    if leaf.iter().any(|p| p.intersect(ray, t_max, &self.data).is_some()) {
+                        return true;
+                    }
                 }
             }
-        }
-        false
+            false
+        })
     }
 
     /// Reference query: tests every primitive (for tests and validation only).

@@ -7,6 +7,8 @@ mod bvh;
 mod node;
 mod wide;
 
+#[cfg(feature = "counters")]
+pub use bvh::counters;
 pub use bvh::{Bvh, BvhStats};
 pub use node::BvhNode;
 pub use wide::Node4;

@@ -6,8 +6,10 @@
 //! the largest surface area, the usual greedy rule (Wald et al. 2008, "Getting rid
 //! of packets").
 
+use wide::f32x4;
+
 use super::node::BvhNode;
-use crate::math::{fast_max, fast_min, Ray};
+use crate::math::Ray;
 
 /// Lanes per wide node.
 pub const WIDTH: usize = 4;
@@ -60,12 +62,13 @@ impl RayBoxes {
 }
 
 impl Node4 {
-    /// Entry distance of `ray` into each lane's box within `[0, t_max]`, infinity
-    /// for a miss or an empty lane.
+    /// Entry distance of `ray` into each lane's box within `[0, t_max]`, and a mask
+    /// with bit `i` set when lane `i` is entered before `t_limit` (misses and empty
+    /// lanes have no bit).
     #[inline(always)]
-    pub fn entries(&self, r: &RayBoxes, t_max: f32) -> [f32; WIDTH] {
-        let mut near = [0.0f32; WIDTH];
-        let mut far = [t_max; WIDTH];
+    pub fn entries(&self, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+        let mut near = f32x4::ZERO;
+        let mut far = f32x4::splat(t_max);
         for axis in 0..3 {
             // The near plane is the min plane for a positive direction, else the max.
             let (lo, hi) = if r.negative[axis] {
@@ -73,17 +76,11 @@ impl Node4 {
             } else {
                 (&self.min[axis], &self.max[axis])
             };
-            let (o, inv) = (r.origin[axis], r.inv[axis]);
-            for i in 0..WIDTH {
-                near[i] = fast_max(near[i], (lo[i] - o) * inv);
-                far[i] = fast_min(far[i], (hi[i] - o) * inv);
-            }
+            near = near.max((f32x4::from(*lo) - r.origin[axis]) * r.inv[axis]);
+            far = far.min((f32x4::from(*hi) - r.origin[axis]) * r.inv[axis]);
         }
-        let mut out = [f32::INFINITY; WIDTH];
-        for i in 0..WIDTH {
-            out[i] = if near[i] <= far[i] { near[i] } else { f32::INFINITY };
-        }
-        out
+        let hit = near.simd_le(far) & near.simd_lt(f32x4::splat(t_limit));
+        (near.to_array(), hit.to_bitmask())
     }
 }
 

@@ -32,6 +32,9 @@ pub struct BenchArgs {
     /// Random rays to trace (default: width x height of the scene).
     #[arg(long)]
     pub random: Option<usize>,
+    /// With `--rays`: trace only the file's rays (skip the primary and random sets).
+    #[arg(long, requires = "rays")]
+    pub rays_only: bool,
     /// Seed of the random ray set.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -81,11 +84,17 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         format!("build_ms={build_ms:.3}"),
         format!("sah_cost={:.3}", st.sah_cost),
     ];
-    let mut sets = vec![("primary", primary), ("random", random)];
+    let mut sets = if args.rays_only {
+        Vec::new()
+    } else {
+        vec![("primary", primary), ("random", random)]
+    };
     if let Some(path) = &args.rays {
         sets.push(("rays", read_rays(path)?));
     }
     for (name, rays) in &sets {
+        #[cfg(feature = "counters")]
+        print_counts(&bvh, name, rays);
         let closest = time_query(&pool, rays, args.repeat, |r| {
             bvh.closest_hit(r, f32::INFINITY).is_some()
         });
@@ -205,4 +214,25 @@ fn read_rays(path: &PathBuf) -> Result<Vec<Ray>, CliError> {
             Ok(Ray::new(o, d))
         })
         .collect()
+}
+
+/// Prints wide nodes visited and primitives tested per ray (feature `counters`).
+#[cfg(feature = "counters")]
+fn print_counts(bvh: &Bvh, name: &str, rays: &[Ray]) {
+    use nffrt::accel::counters::{NODES, PRIMS};
+    use std::sync::atomic::Ordering::Relaxed;
+    let per_ray = |f: &dyn Fn(&Ray) -> bool| {
+        NODES.store(0, Relaxed);
+        PRIMS.store(0, Relaxed);
+        for r in rays {
+            f(r);
+        }
+        let n = rays.len() as f64;
+        (NODES.load(Relaxed) as f64 / n, PRIMS.load(Relaxed) as f64 / n)
+    };
+    let (cn, cp) = per_ray(&|r| bvh.closest_hit(r, f32::INFINITY).is_some());
+    let (on, op) = per_ray(&|r| bvh.occluded(r, f32::INFINITY));
+    println!(
+        "{name:>8}: per ray: closest {cn:.1} nodes {cp:.1} prims; occlusion {on:.1} nodes {op:.1} prims"
+    );
 }

@@ -131,7 +131,7 @@ impl Primitive {
     }
 
     /// Phase one: the nearest hit with `0 < t < t_max`.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_max: f32, data: &GeometryData) -> Option<Hit> {
         match &self.shape {
             Shape::Sphere(s) => s.intersect(ray, t_max),
