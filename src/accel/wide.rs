@@ -71,13 +71,15 @@ impl Node4 {
         let mut far = f32x4::splat(t_max);
         for axis in 0..3 {
             // The near plane is the min plane for a positive direction, else the max.
+            // `fast_min`/`fast_max` skip NaN handling: `Ray::inv_dir` is finite, and
+            // the boxes are finite or +infinity (empty lanes), so no NaN can arise.
             let (lo, hi) = if r.negative[axis] {
                 (&self.max[axis], &self.min[axis])
             } else {
                 (&self.min[axis], &self.max[axis])
             };
-            near = near.max((f32x4::from(*lo) - r.origin[axis]) * r.inv[axis]);
-            far = far.min((f32x4::from(*hi) - r.origin[axis]) * r.inv[axis]);
+            near = near.fast_max((f32x4::from(*lo) - r.origin[axis]) * r.inv[axis]);
+            far = far.fast_min((f32x4::from(*hi) - r.origin[axis]) * r.inv[axis]);
         }
         let hit = near.simd_le(far) & near.simd_lt(f32x4::splat(t_limit));
         (near.to_array(), hit.to_bitmask())

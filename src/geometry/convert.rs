@@ -6,7 +6,8 @@
 //! | `c` | one [`ConeShape`] |
 //! | `p 3` | one flat [`Triangle`] |
 //! | `p n`, convex | a fan of flat [`Triangle`]s from the first vertex |
-//! | `p n`, concave | one [`PolygonShape`] (a fan would cover the notches) |
+//! | `p n`, concave and simple | [`Triangle`]s by ear clipping ([`super::triangulate`]) |
+//! | `p n`, self-intersecting | one [`PolygonShape`] (crossings test, even-odd rule) |
 //! | `pp n` | a fan of [`Triangle`]s with vertex normals in [`GeometryData::patch_normals`] |
 //! | `pl` | one [`PlaneShape`] |
 //! | `aabb` | one [`BoxShape`] |
@@ -54,8 +55,25 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
         if pts.len() == 3 {
             let tri = Triangle::new(pts[0], pts[1], pts[2], Triangle::FLAT);
             push(Shape::Triangle(tri), m, line, kind);
-        } else if pts.len() <= PolygonShape::MAX_VERTICES && !is_convex(pts) {
-            push(Shape::Polygon(PolygonShape::new(pts, data)), m, line, kind);
+        } else if !is_convex(pts) {
+            let axis = super::polygon::plane_normal(pts).dominant_axis();
+            match super::triangulate::ear_clip(pts, axis) {
+                Some(tris) => {
+                    for [a, b, c] in tris {
+                        let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
+                        push(Shape::Triangle(tri), m, line, kind);
+                    }
+                }
+                None if pts.len() <= PolygonShape::MAX_VERTICES => {
+                    push(Shape::Polygon(PolygonShape::new(pts, data)), m, line, kind)
+                }
+                None => {
+                    for (a, b, c) in fan(pts) {
+                        let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
+                        push(Shape::Triangle(tri), m, line, kind);
+                    }
+                }
+            }
         } else {
             for (a, b, c) in fan(pts) {
                 let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
@@ -231,24 +249,25 @@ mod tests {
         let g = build_geometry(&scene);
         assert_eq!(count(&g, |s| matches!(s, Shape::Sphere(_))), 2);
         assert_eq!(count(&g, |s| matches!(s, Shape::Cone(_))), 1);
-        // p 3 → 1, p 4 → 2, pp 3 → 1, pp 4 → 2.
-        assert_eq!(count(&g, |s| matches!(s, Shape::Triangle(_))), 6);
-        assert_eq!(count(&g, |s| matches!(s, Shape::Polygon(_))), 1);
+        // p 3 → 1, p 4 → 2, the L-shaped p 6 → 4 by ear clipping, pp 3 → 1, pp 4 → 2.
+        assert_eq!(count(&g, |s| matches!(s, Shape::Triangle(_))), 10);
+        assert_eq!(count(&g, |s| matches!(s, Shape::Polygon(_))), 0);
         assert_eq!(count(&g, |s| matches!(s, Shape::Plane(_))), 1);
         assert_eq!(count(&g, |s| matches!(s, Shape::Box(_))), 1);
-        assert_eq!(g.primitives.len(), 12);
-        assert_eq!(g.data.polygon_points_2d.len(), 6);
+        assert_eq!(g.primitives.len(), 15);
+        assert_eq!(g.data.polygon_points_2d.len(), 0);
         assert_eq!(g.data.patch_normals.len(), 9);
         let kinds: Vec<_> = g.primitives.iter().map(|p| p.kind).collect();
         use SourceKind::*;
         let expected = [
-            Sphere, Sphere, Cone, Polygon, Polygon, Polygon, Polygon, Patch, Patch, Patch, Plane, Box,
+            Sphere, Sphere, Cone, Polygon, Polygon, Polygon, Polygon, Polygon, Polygon, Polygon, Patch,
+            Patch, Patch, Plane, Box,
         ];
         assert_eq!(kinds, expected);
         let lines: Vec<_> = g.primitives.iter().map(|p| p.line).collect();
-        assert_eq!(lines, [3, 4, 5, 6, 8, 8, 9, 10, 11, 11, 12, 13]);
+        assert_eq!(lines, [3, 4, 5, 6, 8, 8, 9, 9, 9, 9, 10, 11, 11, 12, 13]);
         let materials: Vec<_> = g.primitives.iter().map(|p| p.material).collect();
-        assert_eq!(materials, [0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1]);
+        assert_eq!(materials, [0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1]);
         assert!(matches!(g.primitives[1].shape, Shape::Sphere(s) if s.inside));
         assert!(g
             .primitives
@@ -287,13 +306,27 @@ mod tests {
     }
 
     #[test]
-    fn concave_polygon_stays_whole_and_misses_in_its_notch() {
+    fn concave_polygon_is_ear_clipped_and_misses_in_its_notch() {
         let g = build_geometry(&parse("p 6 0 0 3 2 0 3 2 1 3 1 1 3 1 2 3 0 2 3\n").unwrap());
-        assert_eq!(g.primitives.len(), 1);
+        assert_eq!(g.primitives.len(), 4);
+        assert!(g.primitives.iter().all(|p| matches!(p.shape, Shape::Triangle(_))));
         let down = Vec3::new(0.0, 0.0, -1.0);
         let hit = first_hit(&g, &Ray::new(Vec3::new(1.5, 0.5, 5.0), down)).unwrap();
-        assert_eq!((hit.0, hit.1.t), (0, 2.0));
+        assert_eq!(hit.1.t, 2.0);
         assert_eq!(first_hit(&g, &Ray::new(Vec3::new(1.5, 1.5, 5.0), down)), None);
+    }
+
+    #[test]
+    fn self_intersecting_polygon_keeps_the_crossings_test() {
+        // A pentagram: its even-odd interior excludes the central pentagon.
+        let g = build_geometry(
+            &parse("p 5 1 0 0 -0.809 0.588 0 0.309 -0.951 0 0.309 0.951 0 -0.809 -0.588 0\n").unwrap(),
+        );
+        assert_eq!(g.primitives.len(), 1);
+        assert!(matches!(g.primitives[0].shape, Shape::Polygon(_)));
+        let down = Vec3::new(0.0, 0.0, -1.0);
+        assert_eq!(first_hit(&g, &Ray::new(Vec3::new(0.0, 0.0, 1.0), down)), None);
+        assert!(first_hit(&g, &Ray::new(Vec3::new(0.6, 0.0, 1.0), down)).is_some());
     }
 
     #[test]

@@ -24,6 +24,7 @@ pub mod polygon;
 mod proptests;
 pub mod sphere;
 pub mod triangle;
+pub mod triangulate;
 
 use crate::math::{Aabb, Ray, Vec3};
 

@@ -1,5 +1,6 @@
 //! A three-component `f32` vector used for points, directions, normals and colours.
 
+use super::{fast_max, fast_min};
 use std::ops::{Add, AddAssign, Div, Index, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// A three-component vector of `f32`.
@@ -76,16 +77,25 @@ impl Vec3 {
         Vec3::new(self.x * o.x, self.y * o.y, self.z * o.z)
     }
 
-    /// Component-wise minimum.
+    /// Component-wise minimum (by plain comparison: with a NaN component the
+    /// result is unspecified; scene data is never NaN, the parser refuses it).
     #[inline]
     pub fn min(self, o: Vec3) -> Vec3 {
-        Vec3::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
+        Vec3::new(
+            fast_min(self.x, o.x),
+            fast_min(self.y, o.y),
+            fast_min(self.z, o.z),
+        )
     }
 
-    /// Component-wise maximum.
+    /// Component-wise maximum (by plain comparison, like [`Vec3::min`]).
     #[inline]
     pub fn max(self, o: Vec3) -> Vec3 {
-        Vec3::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
+        Vec3::new(
+            fast_max(self.x, o.x),
+            fast_max(self.y, o.y),
+            fast_max(self.z, o.z),
+        )
     }
 
     /// Component-wise absolute value.
@@ -97,7 +107,7 @@ impl Vec3 {
     /// The largest component.
     #[inline]
     pub fn max_elem(self) -> f32 {
-        self.x.max(self.y).max(self.z)
+        fast_max(fast_max(self.x, self.y), self.z)
     }
 
     /// Index (0, 1 or 2) of the component with the largest absolute value.
