@@ -198,7 +198,14 @@ struct V(Vec3);
 
 impl fmt::Display for V {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "({:.4}, {:.4}, {:.4})", self.0.x, self.0.y, self.0.z)
+        // Adding 0 turns -0 into 0, which reads better.
+        write!(
+            f,
+            "({:.4}, {:.4}, {:.4})",
+            self.0.x + 0.0,
+            self.0.y + 0.0,
+            self.0.z + 0.0
+        )
     }
 }
 

@@ -55,7 +55,7 @@ impl Strata {
     pub fn new(spp: u32) -> Strata {
         let spp = spp.max(1);
         let mut rows = (spp as f64).sqrt() as u32;
-        while rows > 1 && spp % rows != 0 {
+        while rows > 1 && !spp.is_multiple_of(rows) {
             rows -= 1;
         }
         let rows = rows.max(1);
