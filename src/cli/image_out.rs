@@ -1,7 +1,7 @@
 //! Where `nffrt render` and `nffrt merge` put images: the format chosen by the file
 //! extension, `-` for PNG on standard output, and the PNG text chunks they carry.
 
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
 use super::output::AtomicOutput;
@@ -66,9 +66,15 @@ pub enum Destination {
 }
 
 impl Destination {
-    /// Opens `path` (`-` is standard output).
+    /// Opens `path` (`-` is standard output, refused when it is a terminal: binary
+    /// image data would garble it).
     pub fn create(path: &Path) -> Result<Destination, CliError> {
         if is_stdout(path) {
+            if io::stdout().is_terminal() {
+                return Err(CliError::usage(
+                    "-o -: standard output is a terminal; redirect it to a file or a pipe",
+                ));
+            }
             Ok(Destination::Stdout)
         } else {
             AtomicOutput::create(path).map(|o| Destination::File(o, path.display().to_string()))
