@@ -58,7 +58,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X0,Y0,X1,Y1")]
     pub region: Option<String>,
     /// Trace only pixel X,Y and print its ray tree to standard output (no image).
-    #[arg(long, value_name = "X,Y")]
+    #[arg(long, value_name = "X,Y", conflicts_with = "region")]
     pub pixel: Option<String>,
     /// Print a summary of ray counts and timings.
     #[arg(long)]

@@ -308,3 +308,57 @@ impl fmt::Display for PixelTrace {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::build_geometry;
+
+    /// Counts in a tree: (hits, reflection rays, refraction rays, shadow rays, blocked).
+    fn tally(node: &RayNode, acc: &mut [u64; 5]) {
+        let Some(h) = &node.hit else { return };
+        acc[0] += 1;
+        for o in &h.lights {
+            acc[3] += (*o != LightOutcome::Behind) as u64;
+            acc[4] += (*o == LightOutcome::Shadowed) as u64;
+        }
+        for (kind, _, child) in &h.children {
+            match kind {
+                Branch::Refraction => acc[2] += 1,
+                _ => acc[1] += 1,
+            }
+            tally(child, acc);
+        }
+    }
+
+    /// The tree holds exactly the rays the tracer counted: every secondary ray, every
+    /// shadow ray and every hit appears once, whatever the pixel.
+    #[test]
+    fn the_tree_accounts_for_every_ray() {
+        let scene = crate::nff::parse(
+            "b 0.1 0.1 0.1\nv from 0 -6 2 at 0 0 0.5 up 0 0 1 angle 50 hither 1 resolution 12 9\n\
+             l -4 -4 6\nl 4 -2 5\nf 0.8 0.8 0.8 0.8 0.2 10 0 1\np 4 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n\
+             f 1 1 1 0.1 0.1 50 0.9 1.5\ns -0.8 0 1 0.8\nf 0.9 0.9 0.9 0.1 0.9 50 0 1\ns 1 0.8 1 0.7\n",
+        )
+        .unwrap();
+        let bvh = Bvh::new(build_geometry(&scene));
+        let opts = RenderOptions::from_scene(&scene);
+        let mut refracted = 0;
+        for y in 0..opts.height {
+            for x in 0..opts.width {
+                let t = trace_pixel(&scene, &bvh, &opts, x, y);
+                let mut acc = [0; 5];
+                tally(&t.samples[0].1, &mut acc);
+                let s = &t.stats;
+                assert_eq!(acc[0], s.eye_hits + s.secondary_hits, "({x}, {y})");
+                assert_eq!(acc[1], s.reflection_rays, "({x}, {y})");
+                assert_eq!(acc[2], s.refraction_rays, "({x}, {y})");
+                assert_eq!((acc[3], acc[4]), (s.shadow_rays, s.shadow_blocked), "({x}, {y})");
+                assert_eq!(t.samples[0].1.color, t.value);
+                refracted += s.refraction_rays;
+            }
+        }
+        // The glass sphere is in view, so the check covered refraction too.
+        assert!(refracted > 0);
+    }
+}
