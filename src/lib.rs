@@ -5,6 +5,9 @@
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
 //! [`image`] encodes it. [`gen`] makes the SPD's classic scenes at any size.
+//! [`render::render_region`] traces a crop with exactly the full render's pixels,
+//! and [`image::tiles`] assembles such crops; [`render::debug::trace_pixel`] keeps
+//! the ray tree of one pixel.
 //!
 //! ```
 //! use nffrt::{accel::Bvh, geometry::build_geometry, render::{render, RenderOptions}};

@@ -6,6 +6,8 @@ use clap::Args;
 use serde::Serialize;
 
 use super::{load::print_warnings, load_scene, CliError};
+use nffrt::accel::{Bvh, BvhStats};
+use nffrt::geometry::build_geometry;
 
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
@@ -15,6 +17,33 @@ pub struct InfoArgs {
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
     pub json: bool,
+    /// Also build the BVH and print its statistics (nodes, leaves, depth, leaf sizes,
+    /// SAH cost, build time).
+    #[arg(long)]
+    pub bvh: bool,
+}
+
+/// The BVH part of `info --bvh`.
+#[derive(Serialize)]
+struct BvhInfo {
+    #[serde(flatten)]
+    stats: BvhStats,
+    bounds_min: Option<[f32; 3]>,
+    bounds_max: Option<[f32; 3]>,
+    build_s: f64,
+}
+
+fn bvh_info(scene: &nffrt::Scene) -> BvhInfo {
+    let t0 = std::time::Instant::now();
+    let bvh = Bvh::new(build_geometry(scene));
+    let build_s = t0.elapsed().as_secs_f64();
+    let bounds = bvh.bounds();
+    BvhInfo {
+        stats: bvh.stats(),
+        bounds_min: bounds.map(|b| b.0.to_array()),
+        bounds_max: bounds.map(|b| b.1.to_array()),
+        build_s,
+    }
 }
 
 #[derive(Serialize)]
@@ -35,6 +64,8 @@ struct InfoJson {
     bounds_max: Option<[f32; 3]>,
     warnings: Vec<String>,
     parse_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bvh: Option<BvhInfo>,
 }
 
 /// Runs `nffrt info`.
@@ -43,6 +74,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let s = &loaded.scene;
     let b = s.bounds();
     let bounds = (!b.is_empty()).then_some((b.min.to_array(), b.max.to_array()));
+    let bvh = args.bvh.then(|| bvh_info(s));
     if args.json {
         let j = InfoJson {
             spheres: s.spheres.len(),
@@ -61,6 +93,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             bounds_max: bounds.map(|b| b.1),
             warnings: s.warnings.iter().map(|w| w.to_string()).collect(),
             parse_s: loaded.parse_s,
+            bvh,
         };
         println!("{}", serde_json::to_string(&j).expect("plain data serializes"));
         return Ok(());
@@ -93,6 +126,29 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     println!("parse time  {:.1} ms", loaded.parse_s * 1e3);
     println!("warnings    {}", s.warnings.len());
+    if let Some(b) = &bvh {
+        print_bvh(b);
+    }
     print_warnings(&loaded, 20);
     Ok(())
+}
+
+fn print_bvh(b: &BvhInfo) {
+    let s = &b.stats;
+    println!("bvh");
+    println!(
+        "  primitives  {} in the tree, {} unbounded beside it",
+        s.primitives, s.unbounded
+    );
+    if let (Some(lo), Some(hi)) = (b.bounds_min, b.bounds_max) {
+        println!("  bounds      {lo:?} .. {hi:?}");
+    }
+    println!("  nodes       {} ({} leaves)", s.nodes, s.leaves);
+    println!("  depth       {}", s.depth);
+    println!(
+        "  leaf size   min {}, mean {:.2}, max {}",
+        s.min_leaf, s.mean_leaf, s.max_leaf
+    );
+    println!("  SAH cost    {:.2}", s.sah_cost);
+    println!("  build time  {:.1} ms", b.build_s * 1e3);
 }

@@ -3,10 +3,13 @@
 
 mod bench;
 mod gen;
+mod image_out;
 mod info;
 mod interrupt;
 mod load;
+mod merge;
 mod output;
+mod pixel;
 mod progress;
 mod render;
 
@@ -66,7 +69,7 @@ impl CliError {
 #[command(name = "nffrt", version, about, long_about = None)]
 #[command(
     after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats"
+Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -79,8 +82,10 @@ enum Command {
     Gen(gen::GenArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
-    /// Render a scene to an image (PNG, PPM or PFM).
+    /// Render a scene to an image (PNG, PPM or PFM), a tile of it, or trace one pixel.
     Render(render::RenderArgs),
+    /// Assemble the PNG tiles of `render --region` into the full image.
+    Merge(merge::MergeArgs),
     /// Time the acceleration structure alone: closest-hit and occlusion queries on
     /// primary, random and file-supplied rays (no shading).
     Bench(bench::BenchArgs),
@@ -100,6 +105,7 @@ pub fn run() -> i32 {
         Command::Gen(a) => gen::run(a),
         Command::Info(a) => info::run(a),
         Command::Render(a) => render::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Bench(a) => bench::run(a),
     };
     match result {

@@ -7,25 +7,30 @@ use std::time::Instant;
 use clap::Args;
 use serde::Serialize;
 
+use super::image_out::{display_name, format_of, Destination, Format, SOFTWARE_TEXT};
 use super::load::{load_scene, print_warnings};
 use super::output::AtomicOutput;
 use super::progress::Progress;
-use super::{interrupt, CliError};
+use super::{interrupt, pixel, CliError};
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
-use nffrt::image::{encode_png, Image};
-use nffrt::render::{eye_rows, render_observed, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
+use nffrt::image::{tiles, Region};
+use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
+use nffrt::Scene;
 
 /// The deepest ray tree allowed (keeps the recursion far from the stack limit).
 pub const MAX_DEPTH_CAP: u32 = 64;
+/// The most samples per pixel `--spp` accepts.
+pub const MAX_SPP: u32 = 4096;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// Scene file (NFF); `-` reads standard input.
     pub scene: PathBuf,
-    /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float).
-    /// Default: the scene's file stem + .png in the current directory.
+    /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float); `-` writes
+    /// PNG to standard output. Default: the scene's file stem + .png in the current
+    /// directory.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Image width (default: the scene's resolution).
@@ -44,6 +49,17 @@ pub struct RenderArgs {
     /// corners averaged into each pixel.
     #[arg(long)]
     pub spd: bool,
+    /// Samples per pixel: stratified jittered supersampling, box-filtered, the same
+    /// image on every run and thread count (1: pixel centres).
+    #[arg(long, value_name = "N", conflicts_with = "spd", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    pub spp: Option<u32>,
+    /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
+    /// tile that records its place; `nffrt merge` assembles tiles.
+    #[arg(long, value_name = "X0,Y0,X1,Y1")]
+    pub region: Option<String>,
+    /// Trace only pixel X,Y and print its ray tree to standard output (no image).
+    #[arg(long, value_name = "X,Y", conflicts_with = "region")]
+    pub pixel: Option<String>,
     /// Print a summary of ray counts and timings.
     #[arg(long)]
     pub stats: bool,
@@ -72,29 +88,6 @@ struct StatsJson {
     mrays_per_s: f64,
 }
 
-#[derive(Clone, Copy, PartialEq)]
-enum Format {
-    Png,
-    Ppm,
-    Pfm,
-}
-
-fn format_of(path: &Path) -> Result<Format, CliError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("png") => Ok(Format::Png),
-        Some("ppm") => Ok(Format::Ppm),
-        Some("pfm") => Ok(Format::Pfm),
-        _ => Err(CliError::usage(format!(
-            "{}: unknown image format (use .png, .ppm or .pfm)",
-            path.display()
-        ))),
-    }
-}
-
 fn default_output(scene: &Path) -> PathBuf {
     let stem = scene.file_stem().filter(|_| scene != Path::new("-"));
     let stem = stem
@@ -103,27 +96,46 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.png"))
 }
 
-/// Runs `nffrt render`.
-pub fn run(args: RenderArgs) -> Result<(), CliError> {
-    let out_path = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
-    let format = format_of(&out_path)?;
-    let loaded = load_scene(&args.scene)?;
-    print_warnings(&loaded, 20);
-    // Open the output (and the stats file) before the work, to fail fast.
-    let mut output = AtomicOutput::create(&out_path)?;
-    let mut stats_out = args.stats_json.as_deref().map(AtomicOutput::create).transpose()?;
-
-    let scene = &loaded.scene;
-    let opts = RenderOptions {
+/// The render settings `args` ask for on `scene`.
+pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
+    RenderOptions {
         width: args.width.unwrap_or(scene.view.width),
         height: args.height.unwrap_or(scene.view.height),
         max_depth: args.max_depth,
-        sampling: if args.spd {
-            Sampling::SpdCorners
-        } else {
-            Sampling::PixelCenters
+        sampling: match (args.spd, args.spp) {
+            (true, _) => Sampling::SpdCorners,
+            (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
+            _ => Sampling::PixelCenters,
         },
+    }
+}
+
+/// Runs `nffrt render`.
+pub fn run(args: RenderArgs) -> Result<(), CliError> {
+    if args.pixel.is_some() {
+        return pixel::run(&args);
+    }
+    let out_path = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
+    let format = format_of(&out_path)?;
+    if args.region.is_some() && format != Format::Png {
+        return Err(CliError::usage(format!(
+            "{}: --region writes PNG tiles (their place is kept in a PNG text chunk)",
+            out_path.display()
+        )));
+    }
+    let loaded = load_scene(&args.scene)?;
+    print_warnings(&loaded, 20);
+    let scene = &loaded.scene;
+    let opts = render_options(&args, scene);
+    let full = Region::full(opts.width, opts.height);
+    let region = match &args.region {
+        Some(s) => Region::parse_within(s, opts.width, opts.height).map_err(CliError::usage)?,
+        None => full,
     };
+    // Open the output (and the stats file) before the work, to fail fast.
+    let output = Destination::create(&out_path)?;
+    let mut stats_out = args.stats_json.as_deref().map(AtomicOutput::create).transpose()?;
+
     let threads = args.threads.map(|t| t as usize).unwrap_or_else(num_cpus);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -135,16 +147,22 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let build_s = t0.elapsed().as_secs_f64();
     interrupt::check()?;
     let t1 = Instant::now();
-    let progress = Progress::new(eye_rows(&opts), args.quiet);
-    let rendered = pool.install(|| render_observed(scene, &bvh, &opts, &progress));
+    let progress = Progress::new(region_eye_rows(&opts, &region), args.quiet);
+    let rendered = pool.install(|| render_region(scene, &bvh, &opts, &region, &progress));
     progress.finish();
     let (image, stats) =
         rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
     let render_s = t1.elapsed().as_secs_f64();
 
-    write_image(&image, format, output.writer())
-        .map_err(|e| CliError::io(format!("{}: cannot write output: {e}", out_path.display())))?;
-    output.commit()?;
+    let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
+    if args.region.is_some() {
+        text.push((
+            tiles::REGION_KEY,
+            tiles::region_text(&region, opts.width, opts.height),
+        ));
+        text.push((tiles::OPTIONS_KEY, tile_options(&opts)));
+    }
+    output.write_image(&image, format, &text)?;
 
     let report = StatsJson {
         rays: stats,
@@ -168,18 +186,29 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         print_stats(&report);
     }
     if !args.quiet {
+        let crop = if region == full {
+            String::new()
+        } else {
+            format!(" (region {region})")
+        };
         eprintln!(
-            "rendered {} in {:.2} s: {} rays, {:.1} Mrays/s, {}x{}, {} threads",
-            out_path.display(),
+            "rendered {} in {:.2} s: {} rays, {:.1} Mrays/s, {}x{}{crop}, {}, {} threads",
+            display_name(&out_path),
             build_s + render_s,
             report.total_rays,
             report.mrays_per_s,
             opts.width,
             opts.height,
+            opts.sampling,
             threads
         );
     }
     Ok(())
+}
+
+/// The settings that change a tile's pixels; `nffrt merge` refuses tiles that differ.
+fn tile_options(opts: &RenderOptions) -> String {
+    format!("sampling={} max-depth={}", opts.sampling, opts.max_depth)
 }
 
 fn print_stats(r: &StatsJson) {
@@ -206,27 +235,4 @@ fn print_stats(r: &StatsJson) {
 
 fn num_cpus() -> usize {
     std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
-}
-
-fn write_image(image: &Image, format: Format, w: &mut impl Write) -> Result<(), String> {
-    match format {
-        Format::Png => encode_png(image, &[("Software", "nffrt".into())], w).map_err(|e| e.to_string()),
-        Format::Ppm => {
-            write!(w, "P6\n{} {}\n255\n", image.width, image.height).map_err(|e| e.to_string())?;
-            w.write_all(&image.to_rgb8()).map_err(|e| e.to_string())
-        }
-        Format::Pfm => {
-            // Portable float map: little-endian (scale -1), rows bottom to top.
-            write!(w, "PF\n{} {}\n-1.0\n", image.width, image.height).map_err(|e| e.to_string())?;
-            let mut bytes = Vec::with_capacity(image.pixels.len() * 12);
-            for row in image.pixels.chunks(image.width as usize).rev() {
-                for p in row {
-                    for c in [p.x, p.y, p.z] {
-                        bytes.extend_from_slice(&c.to_le_bytes());
-                    }
-                }
-            }
-            w.write_all(&bytes).map_err(|e| e.to_string())
-        }
-    }
 }

@@ -1,11 +1,20 @@
-//! Images: the linear floating-point framebuffer and its encoders.
+//! Images: the linear floating-point framebuffer, its encoders and decoders, and
+//! the tiles of a split render.
 //!
 //! Colour mapping (one documented choice): each linear channel is clamped to [0, 1],
 //! multiplied by 255 and rounded to the nearest integer. No gamma curve is applied:
-//! NFF colours are display values, as in the SPD's own pictures.
+//! NFF colours are display values, as in the SPD's own pictures. PFM output skips the
+//! mapping and keeps the linear values as they are.
 
 mod framebuffer;
+mod pfm;
 mod png;
+mod ppm;
+pub mod region;
+pub mod tiles;
 
-pub use self::png::encode_png;
-pub use framebuffer::Image;
+pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};
+pub use framebuffer::{quantize, Image};
+pub use pfm::{decode_pfm, encode_pfm};
+pub use ppm::{decode_ppm, encode_ppm};
+pub use region::Region;

@@ -3,32 +3,27 @@
 //! [`render`] splits the image into rows traced in parallel with rayon. Each row is
 //! computed independently and the rows are assembled in order, so the image is
 //! byte-identical whatever the thread count; per-row [`Stats`] are summed at the end.
+//! [`render_region`] renders a crop: every sample position depends only on absolute
+//! pixel coordinates, so a crop's pixels equal the full render's there, bit for bit.
 
 mod camera;
+pub mod debug;
+mod sampling;
 mod shade;
 mod stats;
 mod trace;
 
 pub use camera::Camera;
+pub use sampling::{jitter, Sampling, Strata};
 pub use stats::Stats;
-pub use trace::Tracer;
+pub use trace::{Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
 use rayon::prelude::*;
 
 use crate::accel::Bvh;
-use crate::image::Image;
+use crate::image::{Image, Region};
 use crate::math::Vec3;
 use crate::scene::Scene;
-
-/// Where eye rays go through each pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sampling {
-    /// One ray through each pixel centre.
-    PixelCenters,
-    /// The SPD benchmark protocol: one ray through each pixel corner
-    /// ((w+1) x (h+1) rays), the four corner values averaged into each pixel.
-    SpdCorners,
-}
 
 /// How to render.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,9 +75,14 @@ pub fn render(scene: &Scene, bvh: &Bvh, opts: &RenderOptions) -> (Image, Stats) 
 
 /// Number of eye-ray rows a render traces (for progress reporting).
 pub fn eye_rows(opts: &RenderOptions) -> u64 {
+    region_eye_rows(opts, &Region::full(opts.width, opts.height))
+}
+
+/// Number of eye-ray rows a render of `region` traces (for progress reporting).
+pub fn region_eye_rows(opts: &RenderOptions, region: &Region) -> u64 {
     match opts.sampling {
-        Sampling::PixelCenters => opts.height as u64,
-        Sampling::SpdCorners => opts.height as u64 + 1,
+        Sampling::SpdCorners => region.height() as u64 + 1,
+        _ => region.height() as u64,
     }
 }
 
@@ -94,50 +94,97 @@ pub fn render_observed(
     opts: &RenderOptions,
     observer: &dyn Observer,
 ) -> Option<(Image, Stats)> {
+    render_region(scene, bvh, opts, &Region::full(opts.width, opts.height), observer)
+}
+
+/// Renders only `region` of the `opts.width` x `opts.height` image (it must lie
+/// inside) into a region-sized image whose pixels are exactly those the full render
+/// has there. `None` if the observer cancelled the render.
+pub fn render_region(
+    scene: &Scene,
+    bvh: &Bvh,
+    opts: &RenderOptions,
+    region: &Region,
+    observer: &dyn Observer,
+) -> Option<(Image, Stats)> {
+    assert!(
+        region.x0 < region.x1 && region.y0 < region.y1 && region.x1 <= opts.width && region.y1 <= opts.height,
+        "region {region} outside the {}x{} image",
+        opts.width,
+        opts.height
+    );
     let camera = Camera::new(&scene.view, opts.width, opts.height);
     let tracer = Tracer::new(scene, bvh, opts.max_depth);
-    let (w, h) = (opts.width as usize, opts.height as usize);
-    match opts.sampling {
-        Sampling::PixelCenters => {
-            let (rows, stats) = trace_grid(&tracer, &camera, w, h, 0.5, observer)?;
-            Some((Image::from_pixels(opts.width, opts.height, rows), stats))
+    let (x0, y0) = (region.x0, region.y0);
+    let (w, h) = (region.width() as usize, region.height() as usize);
+    let trace_at = |x: f32, y: f32, stats: &mut Stats| tracer.trace_eye(&camera.ray(x, y), stats);
+    let pixels = match opts.sampling {
+        Sampling::PixelCenters => trace_grid(x0, y0, w, h, observer, |i, j, st| {
+            trace_at(i as f32 + 0.5, j as f32 + 0.5, st)
+        }),
+        Sampling::Stratified { spp } => {
+            let strata = Strata::new(spp);
+            trace_grid(x0, y0, w, h, observer, |i, j, st| {
+                stratified_mean(&strata, i, j, |x, y| trace_at(x, y, st))
+            })
         }
         Sampling::SpdCorners => {
-            let (corners, stats) = trace_grid(&tracer, &camera, w + 1, h + 1, 0.0, observer)?;
+            // Corner (i, j) is the raster point (i, j): the region's pixels need the
+            // corners x0..=x1, y0..=y1, the same rays the full render traces there.
+            let (corners, stats) = trace_grid(x0, y0, w + 1, h + 1, observer, |i, j, st| {
+                trace_at(i as f32, j as f32, st)
+            })?;
             let mut pixels = Vec::with_capacity(w * h);
             for j in 0..h {
                 for i in 0..w {
                     let c = |x: usize, y: usize| corners[y * (w + 1) + x];
-                    pixels.push((c(i, j) + c(i + 1, j) + c(i, j + 1) + c(i + 1, j + 1)) * 0.25);
+                    pixels.push(spd_mean(c(i, j), c(i + 1, j), c(i, j + 1), c(i + 1, j + 1)));
                 }
             }
-            Some((Image::from_pixels(opts.width, opts.height, pixels), stats))
+            Some((pixels, stats))
         }
-    }
+    };
+    let (pixels, stats) = pixels?;
+    Some((Image::from_pixels(w as u32, h as u32, pixels), stats))
 }
 
-/// Traces a `cols` x `rows` grid of eye rays through raster points `(i + offset, j + offset)`.
+/// The SPD protocol's pixel value: the mean of its four corner values.
+#[inline]
+pub fn spd_mean(top_left: Vec3, top_right: Vec3, bottom_left: Vec3, bottom_right: Vec3) -> Vec3 {
+    (top_left + top_right + bottom_left + bottom_right) * 0.25
+}
+
+/// The box-filtered value of pixel `(x, y)`: the mean of `sample` at its stratified
+/// raster positions, summed in sample order.
+#[inline]
+pub fn stratified_mean(strata: &Strata, x: u32, y: u32, mut sample: impl FnMut(f32, f32) -> Vec3) -> Vec3 {
+    let n = strata.samples();
+    let mut sum = Vec3::ZERO;
+    for s in 0..n {
+        let (px, py) = strata.position(x, y, s);
+        sum += sample(px, py);
+    }
+    sum / n as f32
+}
+
+/// Evaluates `f(i, j)` over `cols` x `rows` points starting at `(x0, y0)`, rows in
+/// parallel, assembled in order.
 fn trace_grid(
-    tracer: &Tracer,
-    camera: &Camera,
+    x0: u32,
+    y0: u32,
     cols: usize,
     rows: usize,
-    offset: f32,
     observer: &dyn Observer,
+    f: impl Fn(u32, u32, &mut Stats) -> Vec3 + Sync,
 ) -> Option<(Vec<Vec3>, Stats)> {
-    let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows)
+    let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows as u32)
         .into_par_iter()
         .map(|j| {
             if observer.cancelled() {
                 return None;
             }
             let mut stats = Stats::default();
-            let row = (0..cols)
-                .map(|i| {
-                    let ray = camera.ray(i as f32 + offset, j as f32 + offset);
-                    tracer.trace_eye(&ray, &mut stats)
-                })
-                .collect();
+            let row = (0..cols as u32).map(|i| f(x0 + i, y0 + j, &mut stats)).collect();
             observer.row_done(stats.total_rays());
             Some((row, stats))
         })

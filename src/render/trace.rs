@@ -1,8 +1,14 @@
 //! The Whitted recursion: closest hit, shadows, reflection and refraction.
+//!
+//! The recursion reports what it does to a [`Recorder`]. The renderer passes
+//! [`NoRecord`], whose `ENABLED = false` turns every report into dead code, so the
+//! hot path pays nothing; `--pixel` passes a recorder that builds the ray tree
+//! (`render::debug`). One code path thus both renders and explains a pixel.
 
 use super::shade::{reflect, refract, Lighting};
 use super::stats::Stats;
 use crate::accel::Bvh;
+use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
 
@@ -17,6 +23,75 @@ pub struct Tracer<'a> {
     lighting: Lighting,
     background: Vec3,
     max_depth: u32,
+}
+
+/// A hit as reported to a [`Recorder`].
+#[derive(Clone, Copy, Debug)]
+pub struct HitRecord<'a> {
+    /// Ray-tree depth of the ray (the eye ray is 1).
+    pub depth: u32,
+    /// The primitive hit (with its source kind and line).
+    pub primitive: &'a Primitive,
+    /// Distance along the (unit-direction) ray.
+    pub t: f32,
+    /// The hit point.
+    pub point: Vec3,
+    /// The geometric normal turned to face the ray.
+    pub normal: Vec3,
+    /// The shading normal turned to face the ray.
+    pub shading_normal: Vec3,
+    /// True if the ray crosses the surface against the primitive's own normal.
+    pub entering: bool,
+    /// The ambient term `A * Kd * C`.
+    pub ambient: Vec3,
+}
+
+/// What became of one light at a hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightOutcome {
+    /// The light is behind the surface: no shadow ray (SPD rule).
+    Behind,
+    /// A shadow ray found an object between the point and the light.
+    Shadowed,
+    /// The light's diffuse + specular contribution.
+    Lit(Vec3),
+}
+
+/// The kind of a secondary ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Branch {
+    /// Mirror reflection (weight Ks).
+    Reflection,
+    /// Mirror reflection under total internal reflection (weight Ks + T).
+    TotalInternalReflection,
+    /// Refraction (weight T).
+    Refraction,
+}
+
+/// Receives the events of the Whitted recursion, depth first: for each ray either
+/// `miss`, or `hit`, one `light` per light, then for each secondary ray `branch`
+/// followed by that ray's own events, and finally `done` with the hit's colour.
+pub trait Recorder {
+    /// False for a recorder that ignores everything: the tracer then skips building
+    /// the reports altogether.
+    const ENABLED: bool = true;
+    /// The ray left the scene and sees `background`.
+    fn miss(&mut self, _ray: &Ray, _background: Vec3) {}
+    /// The ray hit a surface.
+    fn hit(&mut self, _ray: &Ray, _hit: &HitRecord) {}
+    /// Light `index` (in file order) at the current hit.
+    fn light(&mut self, _index: usize, _outcome: LightOutcome) {}
+    /// A secondary ray with this weight is about to be traced.
+    fn branch(&mut self, _kind: Branch, _weight: f32) {}
+    /// The current hit's final colour.
+    fn done(&mut self, _color: Vec3) {}
+}
+
+/// The recorder of ordinary renders: records nothing, costs nothing.
+pub struct NoRecord;
+
+impl Recorder for NoRecord {
+    const ENABLED: bool = false;
 }
 
 /// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
@@ -42,8 +117,14 @@ impl<'a> Tracer<'a> {
     /// Traces an eye ray (depth 1), counting it.
     #[inline]
     pub fn trace_eye(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
+        self.trace_eye_recorded(ray, stats, &mut NoRecord)
+    }
+
+    /// Traces an eye ray like [`Tracer::trace_eye`], reporting to `rec`.
+    #[inline]
+    pub fn trace_eye_recorded<R: Recorder>(&self, ray: &Ray, stats: &mut Stats, rec: &mut R) -> Vec3 {
         stats.eye_rays += 1;
-        let c = self.trace(ray, 1, stats);
+        let c = self.trace(ray, 1, stats, rec);
         // A NaN or infinity never reaches the image.
         if c.is_finite() {
             c
@@ -53,8 +134,11 @@ impl<'a> Tracer<'a> {
     }
 
     /// The colour seen along `ray` at ray-tree depth `depth`.
-    fn trace(&self, ray: &Ray, depth: u32, stats: &mut Stats) -> Vec3 {
+    fn trace<R: Recorder>(&self, ray: &Ray, depth: u32, stats: &mut Stats, rec: &mut R) -> Vec3 {
         let Some((hit, index)) = self.bvh.closest_hit(ray, f32::INFINITY) else {
+            if R::ENABLED {
+                rec.miss(ray, self.background);
+            }
             return self.background;
         };
         if depth == 1 {
@@ -80,10 +164,26 @@ impl<'a> Tracer<'a> {
 
         let diffuse = m.color * m.kd;
         let mut color = self.lighting.ambient.mul_elem(diffuse);
-        for &(light_pos, intensity) in &self.lighting.lights {
+        if R::ENABLED {
+            let record = HitRecord {
+                depth,
+                primitive: prim,
+                t: hit.t,
+                point: p,
+                normal: n,
+                shading_normal: ns,
+                entering,
+                ambient: color,
+            };
+            rec.hit(ray, &record);
+        }
+        for (k, &(light_pos, intensity)) in self.lighting.lights.iter().enumerate() {
             let to_light = light_pos - above;
             // No shadow ray when the light is behind the surface (SPD rule 6).
             if n.dot(to_light) <= 0.0 {
+                if R::ENABLED {
+                    rec.light(k, LightOutcome::Behind);
+                }
                 continue;
             }
             let dist = to_light.length();
@@ -91,6 +191,9 @@ impl<'a> Tracer<'a> {
             stats.shadow_rays += 1;
             if self.bvh.occluded(&Ray::new(above, l), dist) {
                 stats.shadow_blocked += 1;
+                if R::ENABLED {
+                    rec.light(k, LightOutcome::Shadowed);
+                }
                 continue;
             }
             let lambert = ns.dot(l).max(0.0);
@@ -100,13 +203,21 @@ impl<'a> Tracer<'a> {
             } else {
                 0.0
             };
-            color += intensity.mul_elem(diffuse * lambert + Vec3::splat(phong));
+            let contribution = intensity.mul_elem(diffuse * lambert + Vec3::splat(phong));
+            if R::ENABLED {
+                rec.light(k, LightOutcome::Lit(contribution));
+            }
+            color += contribution;
         }
 
         if depth >= self.max_depth || (m.ks <= 0.0 && m.t <= 0.0) {
+            if R::ENABLED {
+                rec.done(color);
+            }
             return color;
         }
         let mut reflect_weight = m.ks;
+        let mut reflect_kind = Branch::Reflection;
         if m.t > 0.0 {
             // Indices of refraction of 0 or less (seen on opaque materials) mean 1.
             let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
@@ -115,14 +226,27 @@ impl<'a> Tracer<'a> {
                 Some(dir) => {
                     stats.refraction_rays += 1;
                     let below = p - n * eps;
-                    color += self.trace(&Ray::new(below, dir), depth + 1, stats) * m.t;
+                    if R::ENABLED {
+                        rec.branch(Branch::Refraction, m.t);
+                    }
+                    color += self.trace(&Ray::new(below, dir), depth + 1, stats, rec) * m.t;
                 }
                 // Total internal reflection: the transmitted share goes to the mirror ray.
-                None => reflect_weight += m.t,
+                None => {
+                    reflect_weight += m.t;
+                    reflect_kind = Branch::TotalInternalReflection;
+                }
             }
         }
         stats.reflection_rays += 1;
         let r = Ray::new(above, reflect(ray.dir, n));
-        color + self.trace(&r, depth + 1, stats) * reflect_weight
+        if R::ENABLED {
+            rec.branch(reflect_kind, reflect_weight);
+        }
+        let color = color + self.trace(&r, depth + 1, stats, rec) * reflect_weight;
+        if R::ENABLED {
+            rec.done(color);
+        }
+        color
     }
 }

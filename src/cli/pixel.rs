@@ -1,0 +1,43 @@
+//! `nffrt render --pixel X,Y`: trace one pixel with the render's settings and print
+//! its ray tree (every hit's primitive and source line, distance, normal, material,
+//! each light's contribution or shadow, the secondary rays and their weights).
+
+use std::io::Write;
+
+use super::load::{load_scene, print_warnings};
+use super::render::{render_options, RenderArgs};
+use super::CliError;
+use nffrt::accel::Bvh;
+use nffrt::geometry::build_geometry;
+use nffrt::image::region::parse_u32s;
+use nffrt::render::debug::trace_pixel;
+
+/// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`.
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    let spec = args.pixel.as_deref().unwrap_or_default();
+    let loaded = load_scene(&args.scene)?;
+    print_warnings(&loaded, 20);
+    let scene = &loaded.scene;
+    let opts = render_options(args, scene);
+    let xy =
+        parse_u32s(spec, 2).map_err(|e| CliError::usage(format!("--pixel '{spec}': {e} (expected X,Y)")))?;
+    let (x, y) = (xy[0], xy[1]);
+    if x >= opts.width || y >= opts.height {
+        return Err(CliError::usage(format!(
+            "--pixel {x},{y} is outside the {}x{} image (columns 0..{}, rows 0..{})",
+            opts.width,
+            opts.height,
+            opts.width - 1,
+            opts.height - 1
+        )));
+    }
+    let bvh = Bvh::new(build_geometry(scene));
+    let trace = trace_pixel(scene, &bvh, &opts, x, y);
+    let mut out = std::io::stdout().lock();
+    match write!(out, "{trace}").and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(CliError::io(format!("writing standard output: {e}")))
+        }
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,201 @@
+//! Tiles of a render split across machines: the metadata each tile PNG carries and
+//! the assembly of tiles into the full image.
+//!
+//! A tile is an ordinary 8-bit RGB PNG of its region with a text chunk
+//! [`REGION_KEY`] = `X0,Y0,X1,Y1,W,H` (the region, half-open, and the full image
+//! size) and [`OPTIONS_KEY`] (the render settings that affect pixels, which must
+//! agree between tiles). [`merge_tiles`] checks that the tiles agree on the full
+//! size and settings, lie inside it, do not overlap and cover it, then copies them
+//! into place.
+
+use super::region::{parse_u32s, Region};
+
+/// PNG text keyword of a tile's placement: `X0,Y0,X1,Y1,W,H`.
+pub const REGION_KEY: &str = "nffrt:region";
+/// PNG text keyword of the settings a tile was rendered with.
+pub const OPTIONS_KEY: &str = "nffrt:options";
+
+/// One tile: where it goes and its pixels.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Tile {
+    /// A name for error messages (the file name).
+    pub name: String,
+    /// Where the tile lies in the full image.
+    pub region: Region,
+    /// Full image width.
+    pub full_width: u32,
+    /// Full image height.
+    pub full_height: u32,
+    /// The render settings recorded in the tile, if any.
+    pub options: Option<String>,
+    /// `region.width() * region.height() * 3` bytes, top row first.
+    pub rgb: Vec<u8>,
+}
+
+/// The text of a tile's [`REGION_KEY`] chunk.
+pub fn region_text(region: &Region, full_width: u32, full_height: u32) -> String {
+    format!("{region},{full_width},{full_height}")
+}
+
+/// Parses a [`REGION_KEY`] chunk: the region and the full size.
+pub fn parse_region_text(s: &str) -> Result<(Region, u32, u32), String> {
+    let v = parse_u32s(s, 6).map_err(|e| format!("bad {REGION_KEY} '{s}': {e}"))?;
+    let (w, h) = (v[4], v[5]);
+    let r = Region::parse_within(&format!("{},{},{},{}", v[0], v[1], v[2], v[3]), w, h)
+        .map_err(|e| format!("bad {REGION_KEY} '{s}': {e}"))?;
+    Ok((r, w, h))
+}
+
+/// Checks the tiles and assembles them: `(width, height, RGB bytes)` of the full image.
+pub fn merge_tiles(tiles: &[Tile]) -> Result<(u32, u32, Vec<u8>), String> {
+    let first = tiles.first().ok_or("no tiles to merge")?;
+    let (w, h) = (first.full_width, first.full_height);
+    for t in tiles {
+        if (t.full_width, t.full_height) != (w, h) {
+            return Err(format!(
+                "{} belongs to a {}x{} image, {} to a {w}x{h} one",
+                t.name, t.full_width, t.full_height, first.name
+            ));
+        }
+        if t.options != first.options {
+            return Err(format!(
+                "{} was rendered with different settings ({}) from {} ({})",
+                t.name,
+                t.options.as_deref().unwrap_or("none recorded"),
+                first.name,
+                first.options.as_deref().unwrap_or("none recorded")
+            ));
+        }
+        let r = &t.region;
+        if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
+            return Err(format!("{}: region {r} does not fit in {w}x{h}", t.name));
+        }
+        if t.rgb.len() as u64 != r.area() * 3 {
+            return Err(format!("{}: pixel data does not match region {r}", t.name));
+        }
+    }
+    for (i, a) in tiles.iter().enumerate() {
+        if let Some(b) = tiles[i + 1..].iter().find(|b| a.region.overlaps(&b.region)) {
+            return Err(format!(
+                "{} ({}) and {} ({}) overlap",
+                a.name, a.region, b.name, b.region
+            ));
+        }
+    }
+    // Disjoint tiles inside the image cover it exactly when their areas add up.
+    let covered: u64 = tiles.iter().map(|t| t.region.area()).sum();
+    let total = w as u64 * h as u64;
+    if covered != total {
+        let hole = first_uncovered(tiles, w, h)
+            .map(|(x, y)| format!(", e.g. pixel ({x}, {y}) is in no tile"))
+            .unwrap_or_default();
+        return Err(format!(
+            "the tiles cover {covered} of the {total} pixels of the {w}x{h} image{hole}"
+        ));
+    }
+    let mut out = vec![0u8; total as usize * 3];
+    let row_bytes = w as usize * 3;
+    for t in tiles {
+        let r = &t.region;
+        let tw = r.width() as usize * 3;
+        for (k, src) in t.rgb.chunks_exact(tw).enumerate() {
+            let at = (r.y0 as usize + k) * row_bytes + r.x0 as usize * 3;
+            out[at..at + tw].copy_from_slice(src);
+        }
+    }
+    Ok((w, h, out))
+}
+
+/// The top-most, then left-most pixel in no tile. It lies at a column that is 0 or
+/// some tile's `x1`, and a row that is 0 or some tile's `y1`, so only those are
+/// tried (skipped for very many tiles, where it would be slow).
+fn first_uncovered(tiles: &[Tile], w: u32, h: u32) -> Option<(u32, u32)> {
+    if tiles.len() > 256 {
+        return None;
+    }
+    let mut xs: Vec<u32> = std::iter::once(0)
+        .chain(tiles.iter().map(|t| t.region.x1))
+        .collect();
+    let mut ys: Vec<u32> = std::iter::once(0)
+        .chain(tiles.iter().map(|t| t.region.y1))
+        .collect();
+    xs.sort_unstable();
+    xs.dedup();
+    ys.sort_unstable();
+    ys.dedup();
+    ys.iter()
+        .filter(|&&y| y < h)
+        .flat_map(|&y| xs.iter().filter(|&&x| x < w).map(move |&x| (x, y)))
+        .find(|&(x, y)| !tiles.iter().any(|t| t.region.contains(x, y)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tile of the 4x3 image whose pixel (x, y) has bytes (x, y, 7).
+    fn tile(name: &str, x0: u32, y0: u32, x1: u32, y1: u32) -> Tile {
+        let mut rgb = Vec::new();
+        for y in y0..y1 {
+            for x in x0..x1 {
+                rgb.extend_from_slice(&[x as u8, y as u8, 7]);
+            }
+        }
+        Tile {
+            name: name.into(),
+            region: Region { x0, y0, x1, y1 },
+            full_width: 4,
+            full_height: 3,
+            options: Some("spp=1".into()),
+            rgb,
+        }
+    }
+
+    #[test]
+    fn uneven_tiles_assemble_in_place() {
+        let tiles = [
+            tile("c", 3, 0, 4, 3),
+            tile("a", 0, 0, 3, 1),
+            tile("b", 0, 1, 3, 3),
+        ];
+        let (w, h, rgb) = merge_tiles(&tiles).unwrap();
+        assert_eq!((w, h), (4, 3));
+        assert_eq!(rgb, tile("full", 0, 0, 4, 3).rgb);
+    }
+
+    #[test]
+    fn overlaps_gaps_and_mismatches_are_named() {
+        let e = merge_tiles(&[tile("a", 0, 0, 3, 3), tile("b", 2, 0, 4, 3)]).unwrap_err();
+        assert!(e.contains("a (0,0,3,3) and b (2,0,4,3) overlap"), "{e}");
+        let e = merge_tiles(&[tile("a", 0, 0, 4, 1), tile("b", 0, 2, 4, 3)]).unwrap_err();
+        assert!(
+            e.contains("cover 8 of the 12") && e.contains("pixel (0, 1)"),
+            "{e}"
+        );
+        let e = merge_tiles(&[tile("a", 0, 0, 4, 3), tile("b", 0, 0, 1, 1)]).unwrap_err();
+        assert!(e.contains("overlap"), "{e}");
+        let mut other = tile("b", 2, 0, 4, 3);
+        other.full_width = 5;
+        let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
+        assert!(e.contains("5x3"), "{e}");
+        let mut other = tile("b", 2, 0, 4, 3);
+        other.options = Some("spp=4".into());
+        let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
+        assert!(e.contains("different settings (spp=4)"), "{e}");
+        assert!(merge_tiles(&[]).is_err());
+    }
+
+    #[test]
+    fn region_text_round_trips() {
+        let r = Region {
+            x0: 1,
+            y0: 2,
+            x1: 3,
+            y1: 4,
+        };
+        assert_eq!(region_text(&r, 10, 20), "1,2,3,4,10,20");
+        assert_eq!(parse_region_text("1,2,3,4,10,20").unwrap(), (r, 10, 20));
+        assert!(parse_region_text("1,2,3,4,2,20").is_err());
+        assert!(parse_region_text("1,2,3,4").is_err());
+    }
+}

@@ -1,0 +1,364 @@
+//! `--pixel`: trace one pixel exactly as the renderer does and keep the ray tree.
+//!
+//! [`trace_pixel`] runs the same [`Tracer`] code path as [`super::render`] with a
+//! [`Recorder`] that builds a [`RayNode`] tree per eye ray, and combines the samples
+//! with the same functions, so the value it reports is bit for bit the rendered
+//! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact.
+
+use std::fmt;
+
+use super::trace::{Branch, HitRecord, LightOutcome, Recorder, Tracer};
+use super::{spd_mean, stratified_mean, Camera, RenderOptions, Sampling, Stats, Strata};
+use crate::accel::Bvh;
+use crate::geometry::SourceKind;
+use crate::image::quantize;
+use crate::math::{Ray, Vec3};
+use crate::scene::{Material, Scene};
+
+/// One ray of the tree and what it saw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayNode {
+    /// Ray origin.
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+    /// The surface hit, `None` for a ray that left the scene.
+    pub hit: Option<HitNode>,
+    /// The colour this ray returns (the background for a miss).
+    pub color: Vec3,
+}
+
+/// A surface hit of a [`RayNode`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct HitNode {
+    /// Ray-tree depth (eye ray = 1).
+    pub depth: u32,
+    /// The NFF entity hit.
+    pub kind: SourceKind,
+    /// Its line in the scene file.
+    pub line: u32,
+    /// Index into the material table and the material itself.
+    pub material: (u32, Material),
+    /// Distance along the ray.
+    pub t: f32,
+    /// The hit point.
+    pub point: Vec3,
+    /// Geometric normal, facing the ray.
+    pub normal: Vec3,
+    /// Shading normal, facing the ray (differs from `normal` on patches).
+    pub shading_normal: Vec3,
+    /// True if the ray enters the object (against the primitive's normal).
+    pub entering: bool,
+    /// The ambient term.
+    pub ambient: Vec3,
+    /// Each light's outcome, in file order.
+    pub lights: Vec<LightOutcome>,
+    /// Secondary rays: kind, weight and the subtree.
+    pub children: Vec<(Branch, f32, RayNode)>,
+}
+
+/// The ray trees of every eye ray of one pixel, and the pixel's value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PixelTrace {
+    /// Pixel column.
+    pub x: u32,
+    /// Pixel row.
+    pub y: u32,
+    /// The options the pixel was traced with.
+    pub opts: RenderOptions,
+    /// Each eye ray: its raster position and tree.
+    pub samples: Vec<((f32, f32), RayNode)>,
+    /// The pixel's linear value, identical to the rendered one.
+    pub value: Vec3,
+    /// Ray counts of this pixel.
+    pub stats: Stats,
+    /// Light positions, for the printout.
+    pub lights: Vec<Vec3>,
+}
+
+/// Builds the tree from the recursion's events.
+struct TreeRecorder<'a> {
+    scene: &'a Scene,
+    open: Vec<(Option<(Branch, f32)>, RayNode)>,
+    pending: Option<(Branch, f32)>,
+    root: Option<RayNode>,
+}
+
+impl TreeRecorder<'_> {
+    fn attach(&mut self, branch: Option<(Branch, f32)>, node: RayNode) {
+        match (self.open.last_mut(), branch) {
+            (Some((_, parent)), Some((kind, w))) => {
+                parent
+                    .hit
+                    .as_mut()
+                    .expect("open nodes are hits")
+                    .children
+                    .push((kind, w, node));
+            }
+            _ => self.root = Some(node),
+        }
+    }
+}
+
+impl Recorder for TreeRecorder<'_> {
+    fn miss(&mut self, ray: &Ray, background: Vec3) {
+        let node = RayNode {
+            origin: ray.origin,
+            dir: ray.dir,
+            hit: None,
+            color: background,
+        };
+        let branch = self.pending.take();
+        self.attach(branch, node);
+    }
+
+    fn hit(&mut self, ray: &Ray, h: &HitRecord) {
+        let m = h.primitive.material;
+        let node = RayNode {
+            origin: ray.origin,
+            dir: ray.dir,
+            hit: Some(HitNode {
+                depth: h.depth,
+                kind: h.primitive.kind,
+                line: h.primitive.line,
+                material: (m, self.scene.materials[m as usize]),
+                t: h.t,
+                point: h.point,
+                normal: h.normal,
+                shading_normal: h.shading_normal,
+                entering: h.entering,
+                ambient: h.ambient,
+                lights: Vec::new(),
+                children: Vec::new(),
+            }),
+            color: Vec3::ZERO,
+        };
+        let branch = self.pending.take();
+        self.open.push((branch, node));
+    }
+
+    fn light(&mut self, _index: usize, outcome: LightOutcome) {
+        if let Some((_, RayNode { hit: Some(h), .. })) = self.open.last_mut() {
+            h.lights.push(outcome);
+        }
+    }
+
+    fn branch(&mut self, kind: Branch, weight: f32) {
+        self.pending = Some((kind, weight));
+    }
+
+    fn done(&mut self, color: Vec3) {
+        if let Some((branch, mut node)) = self.open.pop() {
+            node.color = color;
+            self.attach(branch, node);
+        }
+    }
+}
+
+/// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) as the renderer does.
+pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
+    let camera = Camera::new(&scene.view, opts.width, opts.height);
+    let tracer = Tracer::new(scene, bvh, opts.max_depth);
+    let mut stats = Stats::default();
+    let mut samples = Vec::new();
+    let mut trace_at = |px: f32, py: f32| {
+        let mut rec = TreeRecorder {
+            scene,
+            open: Vec::new(),
+            pending: None,
+            root: None,
+        };
+        let c = tracer.trace_eye_recorded(&camera.ray(px, py), &mut stats, &mut rec);
+        samples.push(((px, py), rec.root.expect("every eye ray records a tree")));
+        c
+    };
+    let value = match opts.sampling {
+        Sampling::PixelCenters => trace_at(x as f32 + 0.5, y as f32 + 0.5),
+        Sampling::Stratified { spp } => stratified_mean(&Strata::new(spp), x, y, trace_at),
+        Sampling::SpdCorners => {
+            let (fx, fy) = (x as f32, y as f32);
+            let c =
+                [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)].map(|(a, b)| trace_at(a, b));
+            spd_mean(c[0], c[1], c[2], c[3])
+        }
+    };
+    PixelTrace {
+        x,
+        y,
+        opts: *opts,
+        samples,
+        value,
+        stats,
+        lights: scene.lights.iter().map(|l| l.position).collect(),
+    }
+}
+
+/// A vector with four decimals.
+struct V(Vec3);
+
+impl fmt::Display for V {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // Adding 0 turns -0 into 0, which reads better.
+        write!(
+            f,
+            "({:.4}, {:.4}, {:.4})",
+            self.0.x + 0.0,
+            self.0.y + 0.0,
+            self.0.z + 0.0
+        )
+    }
+}
+
+fn kind_name(k: SourceKind) -> &'static str {
+    match k {
+        SourceKind::Sphere => "sphere (s)",
+        SourceKind::Polygon => "polygon (p)",
+        SourceKind::Patch => "patch (pp)",
+        SourceKind::Cone => "cone (c)",
+        SourceKind::Plane => "plane (pl)",
+        SourceKind::Box => "box (aabb)",
+    }
+}
+
+impl PixelTrace {
+    fn write_node(&self, f: &mut fmt::Formatter<'_>, node: &RayNode, indent: usize) -> fmt::Result {
+        let pad = "  ".repeat(indent);
+        writeln!(f, "{pad}ray from {} dir {}", V(node.origin), V(node.dir))?;
+        let Some(h) = &node.hit else {
+            return writeln!(f, "{pad}miss: background {}", V(node.color));
+        };
+        let side = if h.entering { "entering" } else { "leaving" };
+        writeln!(
+            f,
+            "{pad}hit {} at line {}, t = {:.4}, {side}",
+            kind_name(h.kind),
+            h.line,
+            h.t
+        )?;
+        writeln!(f, "{pad}  point {}  normal {}", V(h.point), V(h.normal))?;
+        if h.shading_normal != h.normal {
+            writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
+        }
+        let (mi, m) = &h.material;
+        writeln!(
+            f,
+            "{pad}  material #{mi}: colour {} Kd {} Ks {} shine {} T {} ior {}",
+            V(m.color),
+            m.kd,
+            m.ks,
+            m.shine,
+            m.t,
+            m.ior
+        )?;
+        writeln!(f, "{pad}  ambient {}", V(h.ambient))?;
+        for (k, outcome) in h.lights.iter().enumerate() {
+            let at = self.lights.get(k).map(|&p| V(p).to_string()).unwrap_or_default();
+            match outcome {
+                LightOutcome::Behind => writeln!(
+                    f,
+                    "{pad}  light {} at {at}: behind the surface (no shadow ray)",
+                    k + 1
+                )?,
+                LightOutcome::Shadowed => writeln!(f, "{pad}  light {} at {at}: shadowed", k + 1)?,
+                LightOutcome::Lit(c) => writeln!(f, "{pad}  light {} at {at}: adds {}", k + 1, V(*c))?,
+            }
+        }
+        if h.children.is_empty() && (m.ks > 0.0 || m.t > 0.0) {
+            writeln!(f, "{pad}  no secondary rays: depth {} is the limit", h.depth)?;
+        }
+        for (kind, w, child) in &h.children {
+            let name = match kind {
+                Branch::Reflection => "reflection",
+                Branch::TotalInternalReflection => "reflection (total internal reflection)",
+                Branch::Refraction => "refraction",
+            };
+            writeln!(f, "{pad}  {name}, weight {w}:")?;
+            self.write_node(f, child, indent + 2)?;
+        }
+        writeln!(f, "{pad}  = colour {}", V(node.color))
+    }
+}
+
+impl fmt::Display for PixelTrace {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "pixel ({}, {}) of {}x{}, sampling {}, max depth {}",
+            self.x, self.y, self.opts.width, self.opts.height, self.opts.sampling, self.opts.max_depth
+        )?;
+        let n = self.samples.len();
+        for (k, ((px, py), node)) in self.samples.iter().enumerate() {
+            writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+            self.write_node(f, node, 1)?;
+        }
+        let v = self.value;
+        writeln!(
+            f,
+            "pixel value {} -> 8-bit ({}, {}, {})",
+            V(v),
+            quantize(v.x),
+            quantize(v.y),
+            quantize(v.z)
+        )?;
+        let s = &self.stats;
+        writeln!(
+            f,
+            "rays: {} eye, {} reflection, {} refraction, {} shadow ({} blocked)",
+            s.eye_rays, s.reflection_rays, s.refraction_rays, s.shadow_rays, s.shadow_blocked
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::build_geometry;
+
+    /// Counts in a tree: (hits, reflection rays, refraction rays, shadow rays, blocked).
+    fn tally(node: &RayNode, acc: &mut [u64; 5]) {
+        let Some(h) = &node.hit else { return };
+        acc[0] += 1;
+        for o in &h.lights {
+            acc[3] += (*o != LightOutcome::Behind) as u64;
+            acc[4] += (*o == LightOutcome::Shadowed) as u64;
+        }
+        for (kind, _, child) in &h.children {
+            match kind {
+                Branch::Refraction => acc[2] += 1,
+                _ => acc[1] += 1,
+            }
+            tally(child, acc);
+        }
+    }
+
+    /// The tree holds exactly the rays the tracer counted: every secondary ray, every
+    /// shadow ray and every hit appears once, whatever the pixel.
+    #[test]
+    fn the_tree_accounts_for_every_ray() {
+        let scene = crate::nff::parse(
+            "b 0.1 0.1 0.1\nv from 0 -6 2 at 0 0 0.5 up 0 0 1 angle 50 hither 1 resolution 12 9\n\
+             l -4 -4 6\nl 4 -2 5\nf 0.8 0.8 0.8 0.8 0.2 10 0 1\np 4 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n\
+             f 1 1 1 0.1 0.1 50 0.9 1.5\ns -0.8 0 1 0.8\nf 0.9 0.9 0.9 0.1 0.9 50 0 1\ns 1 0.8 1 0.7\n",
+        )
+        .unwrap();
+        let bvh = Bvh::new(build_geometry(&scene));
+        let opts = RenderOptions::from_scene(&scene);
+        let mut refracted = 0;
+        for y in 0..opts.height {
+            for x in 0..opts.width {
+                let t = trace_pixel(&scene, &bvh, &opts, x, y);
+                let mut acc = [0; 5];
+                tally(&t.samples[0].1, &mut acc);
+                let s = &t.stats;
+                assert_eq!(acc[0], s.eye_hits + s.secondary_hits, "({x}, {y})");
+                assert_eq!(acc[1], s.reflection_rays, "({x}, {y})");
+                assert_eq!(acc[2], s.refraction_rays, "({x}, {y})");
+                assert_eq!((acc[3], acc[4]), (s.shadow_rays, s.shadow_blocked), "({x}, {y})");
+                assert_eq!(t.samples[0].1.color, t.value);
+                refracted += s.refraction_rays;
+            }
+        }
+        // The glass sphere is in view, so the check covered refraction too.
+        assert!(refracted > 0);
+    }
+}
