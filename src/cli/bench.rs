@@ -67,7 +67,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     let bvh = bvh.expect("at least one build");
     let build_ms = median(&mut builds);
     let st = bvh.stats();
-    println!(
+    outln!(
         "{}: {} primitives, build {:.2} ms (median), {} nodes, depth {}, leaves {:.2} prims avg, SAH cost {:.2}",
         loaded.name, st.primitives, build_ms, st.nodes, st.depth, st.mean_leaf, st.sah_cost
     );
@@ -99,7 +99,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             bvh.closest_hit(r, f32::INFINITY).is_some()
         });
         let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
-        println!(
+        outln!(
             "{name:>8}: {} rays, {} hits; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
             rays.len(),
             closest.hits,
@@ -114,7 +114,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         summary.push(format!("{name}_hits={}", closest.hits));
     }
     summary.push(format!("threads={}", args.threads));
-    println!("{}", summary.join(" "));
+    outln!("{}", summary.join(" "));
     Ok(())
 }
 
@@ -232,7 +232,5 @@ fn print_counts(bvh: &Bvh, name: &str, rays: &[Ray]) {
     };
     let (cn, cp) = per_ray(&|r| bvh.closest_hit(r, f32::INFINITY).is_some());
     let (on, op) = per_ray(&|r| bvh.occluded(r, f32::INFINITY));
-    println!(
-        "{name:>8}: per ray: closest {cn:.1} nodes {cp:.1} prims; occlusion {on:.1} nodes {op:.1} prims"
-    );
+    outln!("{name:>8}: per ray: closest {cn:.1} nodes {cp:.1} prims; occlusion {on:.1} nodes {op:.1} prims");
 }

@@ -95,19 +95,28 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             parse_s: loaded.parse_s,
             bvh,
         };
-        println!("{}", serde_json::to_string(&j).expect("plain data serializes"));
+        outln!("{}", serde_json::to_string(&j).expect("plain data serializes"));
         return Ok(());
     }
     let v = &s.view;
-    println!("scene       {}", loaded.name);
-    println!("resolution  {} x {}", v.width, v.height);
-    println!(
+    outln!("scene       {}", loaded.name);
+    outln!("resolution  {} x {}", v.width, v.height);
+    outln!(
         "camera      from {} {} {}  at {} {} {}  up {} {} {}  angle {}",
-        v.from.x, v.from.y, v.from.z, v.at.x, v.at.y, v.at.z, v.up.x, v.up.y, v.up.z, v.angle
+        v.from.x,
+        v.from.y,
+        v.from.z,
+        v.at.x,
+        v.at.y,
+        v.at.z,
+        v.up.x,
+        v.up.y,
+        v.up.z,
+        v.angle
     );
-    println!("lights      {}", s.lights.len());
-    println!("materials   {}", s.materials.len());
-    println!("primitives  {}", s.primitive_count());
+    outln!("lights      {}", s.lights.len());
+    outln!("materials   {}", s.materials.len());
+    outln!("primitives  {}", s.primitive_count());
     for (name, n) in [
         ("spheres", s.spheres.len()),
         ("polygons", s.polygons.len()),
@@ -117,15 +126,15 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         ("boxes", s.boxes.len()),
     ] {
         if n > 0 {
-            println!("  {name:<10}{n}");
+            outln!("  {name:<10}{n}");
         }
     }
     match bounds {
-        Some((lo, hi)) => println!("bounds      {lo:?} .. {hi:?}"),
-        None => println!("bounds      (no bounded primitive)"),
+        Some((lo, hi)) => outln!("bounds      {lo:?} .. {hi:?}"),
+        None => outln!("bounds      (no bounded primitive)"),
     }
-    println!("parse time  {:.1} ms", loaded.parse_s * 1e3);
-    println!("warnings    {}", s.warnings.len());
+    outln!("parse time  {:.1} ms", loaded.parse_s * 1e3);
+    outln!("warnings    {}", s.warnings.len());
     if let Some(b) = &bvh {
         print_bvh(b);
     }
@@ -135,20 +144,23 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
 
 fn print_bvh(b: &BvhInfo) {
     let s = &b.stats;
-    println!("bvh");
-    println!(
+    outln!("bvh");
+    outln!(
         "  primitives  {} in the tree, {} unbounded beside it",
-        s.primitives, s.unbounded
+        s.primitives,
+        s.unbounded
     );
     if let (Some(lo), Some(hi)) = (b.bounds_min, b.bounds_max) {
-        println!("  bounds      {lo:?} .. {hi:?}");
+        outln!("  bounds      {lo:?} .. {hi:?}");
     }
-    println!("  nodes       {} ({} leaves)", s.nodes, s.leaves);
-    println!("  depth       {}", s.depth);
-    println!(
+    outln!("  nodes       {} ({} leaves)", s.nodes, s.leaves);
+    outln!("  depth       {}", s.depth);
+    outln!(
         "  leaf size   min {}, mean {:.2}, max {}",
-        s.min_leaf, s.mean_leaf, s.max_leaf
+        s.min_leaf,
+        s.mean_leaf,
+        s.max_leaf
     );
-    println!("  SAH cost    {:.2}", s.sah_cost);
-    println!("  build time  {:.1} ms", b.build_s * 1e3);
+    outln!("  SAH cost    {:.2}", s.sah_cost);
+    outln!("  build time  {:.1} ms", b.build_s * 1e3);
 }

@@ -1,6 +1,18 @@
 //! Subcommands of the `nffrt` binary and the shared plumbing: loading scenes,
 //! reporting errors with their exit codes.
 
+/// `println!` for command output: a closed standard output (e.g. piped into `head`)
+/// ends the program quietly with success instead of panicking; any other write
+/// failure is an I/O error.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            $crate::cli::stdout_failed(e)
+        }
+    }};
+}
+
 mod bench;
 mod gen;
 mod image_out;
@@ -89,6 +101,15 @@ enum Command {
     /// Time the acceleration structure alone: closest-hit and occlusion queries on
     /// primary, random and file-supplied rays (no shading).
     Bench(bench::BenchArgs),
+}
+
+/// Ends the program after a failed write to standard output (see `outln!`).
+pub fn stdout_failed(e: std::io::Error) -> ! {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(exit::OK);
+    }
+    eprintln!("nffrt: error: writing standard output: {e}");
+    std::process::exit(exit::IO);
 }
 
 /// Parses the command line, runs the subcommand, prints any error, returns the exit code.

@@ -213,24 +213,30 @@ fn tile_options(opts: &RenderOptions) -> String {
 
 fn print_stats(r: &StatsJson) {
     let s = &r.rays;
-    println!(
+    outln!(
         "image            {} x {}, depth {}, {} threads",
-        r.width, r.height, r.max_depth, r.threads
+        r.width,
+        r.height,
+        r.max_depth,
+        r.threads
     );
-    println!("primitives       {}", r.primitives);
-    println!("eye rays         {} ({} hit)", s.eye_rays, s.eye_hits);
-    println!("reflection rays  {}", s.reflection_rays);
-    println!("refraction rays  {}", s.refraction_rays);
-    println!(
+    outln!("primitives       {}", r.primitives);
+    outln!("eye rays         {} ({} hit)", s.eye_rays, s.eye_hits);
+    outln!("reflection rays  {}", s.reflection_rays);
+    outln!("refraction rays  {}", s.refraction_rays);
+    outln!(
         "shadow rays      {} ({} blocked)",
-        s.shadow_rays, s.shadow_blocked
+        s.shadow_rays,
+        s.shadow_blocked
     );
-    println!("total rays       {}", r.total_rays);
-    println!(
+    outln!("total rays       {}", r.total_rays);
+    outln!(
         "parse / build / render  {:.3} / {:.3} / {:.3} s",
-        r.parse_s, r.build_s, r.render_s
+        r.parse_s,
+        r.build_s,
+        r.render_s
     );
-    println!("speed            {:.2} Mrays/s", r.mrays_per_s);
+    outln!("speed            {:.2} Mrays/s", r.mrays_per_s);
 }
 
 fn num_cpus() -> usize {
