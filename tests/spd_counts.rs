@@ -65,7 +65,8 @@ struct Counts {
 }
 
 fn render_spd(scene: &PathBuf, name: &str) -> Counts {
-    let dir = std::env::temp_dir().join(format!("nffrt-spd-test-{}-{name}", std::process::id()));
+    let tag: String = name.chars().filter(char::is_ascii_alphanumeric).collect();
+    let dir = std::env::temp_dir().join(format!("nffrt-spd-test-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let json = dir.join("stats.json");
     let out = Command::new(env!("CARGO_BIN_EXE_nffrt"))
@@ -104,7 +105,30 @@ fn within(got: f64, want: f64, rel: f64) -> bool {
 
 fn check(name: &str) {
     let Some(scene) = shared_scene(name) else { return };
-    let c = render_spd(&scene, name);
+    check_counts(name, &render_spd(&scene, name));
+}
+
+/// The same invariants on the scene `nffrt gen NAME` writes (no `../shared` needed).
+fn check_generated(name: &str) {
+    let dir = std::env::temp_dir().join(format!("nffrt-gen-spd-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join(format!("{name}.nff"));
+    let out = Command::new(env!("CARGO_BIN_EXE_nffrt"))
+        .args(["gen", name, "-o"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "gen {name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let counts = render_spd(&scene, &format!("generated {name}"));
+    std::fs::remove_dir_all(&dir).ok();
+    check_counts(name, &counts);
+}
+
+fn check_counts(name: &str, c: &Counts) {
     let spd = SPD.iter().find(|(n, _)| *n == name).unwrap().1;
     let hav = HAVRAN.iter().find(|(n, _)| *n == name).unwrap().1;
     let report = format!(
@@ -185,4 +209,32 @@ fn tetra() {
 #[test]
 fn tree() {
     check("tree");
+}
+#[test]
+fn generated_balls() {
+    check_generated("balls");
+}
+#[test]
+fn generated_gears() {
+    check_generated("gears");
+}
+#[test]
+fn generated_mount() {
+    check_generated("mount");
+}
+#[test]
+fn generated_rings() {
+    check_generated("rings");
+}
+#[test]
+fn generated_teapot() {
+    check_generated("teapot");
+}
+#[test]
+fn generated_tetra() {
+    check_generated("tetra");
+}
+#[test]
+fn generated_tree() {
+    check_generated("tree");
 }
