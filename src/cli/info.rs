@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use super::{load::print_warnings, load_scene, CliError};
+use super::limits::SceneLimitArgs;
+use super::{load::load_scene_with, load::print_warnings, CliError};
 
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
@@ -15,6 +16,9 @@ pub struct InfoArgs {
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
     pub json: bool,
+    /// Resource limits.
+    #[command(flatten)]
+    pub limits: SceneLimitArgs,
 }
 
 #[derive(Serialize)]
@@ -39,7 +43,7 @@ struct InfoJson {
 
 /// Runs `nffrt info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let loaded = load_scene(&args.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits)?;
     let s = &loaded.scene;
     let b = s.bounds();
     let bounds = (!b.is_empty()).then_some((b.min.to_array(), b.max.to_array()));

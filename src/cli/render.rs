@@ -7,7 +7,8 @@ use std::time::Instant;
 use clap::Args;
 use serde::Serialize;
 
-use super::load::{load_scene, print_warnings};
+use super::limits::RenderLimitArgs;
+use super::load::{load_scene_with, print_warnings};
 use super::output::AtomicOutput;
 use super::progress::Progress;
 use super::{interrupt, CliError};
@@ -53,6 +54,9 @@ pub struct RenderArgs {
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Resource limits (see "Limits" in the README).
+    #[command(flatten)]
+    pub limits: RenderLimitArgs,
 }
 
 /// Counts and timings, as written by `--stats-json`.
@@ -107,7 +111,7 @@ fn default_output(scene: &Path) -> PathBuf {
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let out_path = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
     let format = format_of(&out_path)?;
-    let loaded = load_scene(&args.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     print_warnings(&loaded, 20);
     // Open the output (and the stats file) before the work, to fail fast.
     let mut output = AtomicOutput::create(&out_path)?;
@@ -124,6 +128,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             Sampling::PixelCenters
         },
     };
+    args.limits
+        .check_pixels(&opts, args.width.is_some() || args.height.is_some())?;
     let threads = args.threads.map(|t| t as usize).unwrap_or_else(num_cpus);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
