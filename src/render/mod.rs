@@ -108,7 +108,10 @@ pub fn render_observed(
             for j in 0..h {
                 for i in 0..w {
                     let c = |x: usize, y: usize| corners[y * (w + 1) + x];
-                    pixels.push((c(i, j) + c(i + 1, j) + c(i, j + 1) + c(i + 1, j + 1)) * 0.25);
+                    // Quartered before the sum (exact: a power of two), so four huge but
+                    // finite corners cannot overflow to infinity.
+                    let q = |x: usize, y: usize| c(x, y) * 0.25;
+                    pixels.push(q(i, j) + q(i + 1, j) + q(i, j + 1) + q(i + 1, j + 1));
                 }
             }
             Some((Image::from_pixels(opts.width, opts.height, pixels), stats))
