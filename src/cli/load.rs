@@ -6,6 +6,8 @@ use std::time::Instant;
 
 use super::limits::SceneLimitArgs;
 use super::CliError;
+use nffrt::accel::Bvh;
+use nffrt::geometry::build_geometry;
 use nffrt::Scene;
 
 /// A parsed scene with the name it is reported under and the time parsing took.
@@ -102,4 +104,25 @@ pub fn print_warnings(loaded: &LoadedScene, limit: usize) {
     if w.len() > limit {
         eprintln!("{}: ... and {} more warnings", loaded.name, w.len() - limit);
     }
+}
+
+/// Builds the render-time geometry and its BVH, emptying the scene's primitive and
+/// vertex lists as soon as the geometry no longer needs them, before the BVH build
+/// (the memory peak): the tracer reads only the view, lights, materials and background.
+pub fn build_bvh(scene: &mut Scene) -> Bvh {
+    let geometry = build_geometry(scene);
+    for v in [
+        &mut scene.polygon_vertices,
+        &mut scene.patch_vertices,
+        &mut scene.patch_normals,
+    ] {
+        *v = Vec::new();
+    }
+    scene.spheres = Vec::new();
+    scene.cones = Vec::new();
+    scene.polygons = Vec::new();
+    scene.patches = Vec::new();
+    scene.planes = Vec::new();
+    scene.boxes = Vec::new();
+    Bvh::new(geometry)
 }

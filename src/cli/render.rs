@@ -8,12 +8,11 @@ use clap::Args;
 use serde::Serialize;
 
 use super::limits::RenderLimitArgs;
-use super::load::{load_scene_with, print_warnings};
+use super::load::{build_bvh, load_scene_with, print_warnings};
 use super::output::AtomicOutput;
 use super::progress::Progress;
 use super::{interrupt, CliError};
 use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
 use nffrt::image::{encode_png, Image};
 use nffrt::render::{eye_rows, render_observed, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
 
@@ -111,7 +110,7 @@ fn default_output(scene: &Path) -> PathBuf {
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let out_path = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
     let format = format_of(&out_path)?;
-    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
+    let mut loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     print_warnings(&loaded, 20);
     // Open the output (and the stats file) before the work, to fail fast.
     let mut output = AtomicOutput::create(&out_path)?;
@@ -137,7 +136,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
 
     let t0 = Instant::now();
-    let bvh = pool.install(|| Bvh::new(build_geometry(scene)));
+    let bvh = pool.install(|| build_bvh(&mut loaded.scene));
+    let scene = &loaded.scene;
     let build_s = t0.elapsed().as_secs_f64();
     interrupt::check()?;
     let t1 = Instant::now();
