@@ -140,9 +140,9 @@ fn scene() -> impl Strategy<Value = String> {
                 -4.0 * k,
                 -3.5 * k,
                 -2.0 * k,
-                -1.0 * k,
-                -1.0 * k,
-                1.0 * k,
+                -k,
+                -k,
+                k,
             )
         })
 }

@@ -12,7 +12,6 @@ use super::load::{build_bvh, load_scene_with, print_warnings};
 use super::output::AtomicOutput;
 use super::progress::Progress;
 use super::{interrupt, CliError};
-use nffrt::accel::Bvh;
 use nffrt::image::{encode_png, Image};
 use nffrt::render::{eye_rows, render_observed, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
 
