@@ -229,6 +229,10 @@ fn an_image_over_the_pixel_limit_is_refused_before_rendering() {
         "--quiet",
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // `nffrt bench` makes a ray per pixel of the file's resolution, and --random rays.
+    fails_with(&nffrt(&["bench", s(&big), "--repeat", "1"]), 3, "--max-pixels");
+    let random = nffrt(&["bench", s(&scene), "--random", "1000", "--max-pixels", "999"]);
+    fails_with(&random, 2, "--random 1000");
 }
 
 // ---- safe output -----------------------------------------------------------------------
