@@ -14,9 +14,16 @@ fuzz_target!(|data: &[u8]| {
     let mut first = Vec::new();
     write_nff(&scene, &mut first).expect("writing to memory cannot fail");
     let again = parse_bytes(&first).unwrap_or_else(|e| {
-        panic!("written scene does not parse: {e}\n{}", String::from_utf8_lossy(&first))
+        panic!(
+            "written scene does not parse: {e}\n{}",
+            String::from_utf8_lossy(&first)
+        )
     });
-    assert_eq!(scene.primitive_count(), again.primitive_count(), "primitive count changed");
+    assert_eq!(
+        scene.primitive_count(),
+        again.primitive_count(),
+        "primitive count changed"
+    );
     assert_eq!(scene.lights.len(), again.lights.len(), "light count changed");
     assert_eq!(scene.view, again.view, "camera changed");
     let mut second = Vec::new();
@@ -24,6 +31,8 @@ fuzz_target!(|data: &[u8]| {
     if first != second {
         let (a, b) = (String::from_utf8_lossy(&first), String::from_utf8_lossy(&second));
         let diff = a.lines().zip(b.lines()).enumerate().find(|(_, (x, y))| x != y);
-        panic!("write is not a fixpoint after one round trip; first difference (line, first, second): {diff:?}");
+        panic!(
+            "write is not a fixpoint after one round trip; first difference (line, first, second): {diff:?}"
+        );
     }
 });
