@@ -95,7 +95,11 @@ impl Bvh {
     /// leaf order.
     pub fn new(geometry: Geometry) -> Bvh {
         let Geometry { primitives, data } = geometry;
-        let (mut bounded, mut bounds, mut unbounded) = (Vec::new(), Vec::new(), Vec::new());
+        // Sized up front: grown by doubling, these two were the peak of a whole render's
+        // memory (old and new buffers side by side, up to twice the length).
+        let n = primitives.len();
+        let (mut bounded, mut bounds, mut unbounded) =
+            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::new());
         for p in primitives {
             match p.bounds(&data) {
                 Some(b) => {

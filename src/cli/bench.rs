@@ -7,12 +7,13 @@ use std::time::Instant;
 use clap::Args;
 use rayon::prelude::*;
 
-use super::load::load_scene;
+use super::limits::RenderLimitArgs;
+use super::load::load_scene_with;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
 use nffrt::math::{Ray, Vec3};
-use nffrt::render::Camera;
+use nffrt::render::{Camera, Sampling};
 
 /// Arguments of `nffrt bench`.
 #[derive(Args, Debug)]
@@ -38,6 +39,10 @@ pub struct BenchArgs {
     /// Seed of the random ray set.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Resource limits (see "Limits" in the README); the primary and random ray sets
+    /// count as pixels.
+    #[command(flatten)]
+    pub limits: RenderLimitArgs,
 }
 
 /// Median and best timing of one query over one ray set.
@@ -49,7 +54,7 @@ struct Timing {
 
 /// Runs `nffrt bench`.
 pub fn run(args: BenchArgs) -> Result<(), CliError> {
-    let loaded = load_scene(&args.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     let scene = &loaded.scene;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads as usize)
@@ -73,12 +78,20 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     );
 
     let (w, h) = (scene.view.width, scene.view.height);
+    args.limits.check_pixels(w, h, Sampling::PixelCenters, false)?;
+    let n_random = args.random.unwrap_or((w * h) as usize);
+    if n_random as u64 > args.limits.max_pixels {
+        return Err(CliError::usage(format!(
+            "--random {n_random} is more than the limit of {} rays (--max-pixels raises it)",
+            args.limits.max_pixels
+        )));
+    }
     let camera = Camera::new(&scene.view, w, h);
     let primary: Vec<Ray> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5))
         .collect();
-    let random = random_rays(&bvh, args.random.unwrap_or((w * h) as usize), args.seed);
+    let random = random_rays(&bvh, n_random, args.seed);
 
     let mut summary = vec![
         format!("build_ms={build_ms:.3}"),

@@ -10,7 +10,7 @@ use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
-use super::CliError;
+use super::{exit, interrupt, CliError};
 
 /// Arguments of `nffrt gen`.
 #[derive(Args, Debug)]
@@ -92,15 +92,27 @@ fn write_file(scene: &Scene, dest: &Path) -> Result<(), CliError> {
     ));
     let written = (|| -> io::Result<()> {
         let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        interrupt::register_temp(tmp.clone());
         let mut w = BufWriter::with_capacity(1 << 16, file);
         write_nff(scene, &mut w)?;
         let file: File = w.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         drop(file);
+        // Ctrl-C or SIGTERM while writing: leave the destination as it was.
+        if interrupt::interrupted() {
+            return Err(io::Error::new(io::ErrorKind::Interrupted, "interrupted"));
+        }
         std::fs::rename(&tmp, dest)
     })();
+    interrupt::unregister_temp(&tmp);
     written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
+        if interrupt::interrupted() {
+            return CliError {
+                message: "interrupted".into(),
+                code: exit::INTERRUPTED,
+            };
+        }
         CliError::io(format!("{name}: cannot write: {e}"))
     })
 }

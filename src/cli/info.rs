@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use super::{load::print_warnings, load_scene, CliError};
+use super::limits::SceneLimitArgs;
+use super::{load::load_scene_with, load::print_warnings, CliError};
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
 
@@ -21,6 +22,9 @@ pub struct InfoArgs {
     /// SAH cost, build time).
     #[arg(long)]
     pub bvh: bool,
+    /// Resource limits.
+    #[command(flatten)]
+    pub limits: SceneLimitArgs,
 }
 
 /// The BVH part of `info --bvh`.
@@ -70,7 +74,7 @@ struct InfoJson {
 
 /// Runs `nffrt info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let loaded = load_scene(&args.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits)?;
     let s = &loaded.scene;
     let b = s.bounds();
     let bounds = (!b.is_empty()).then_some((b.min.to_array(), b.max.to_array()));

@@ -4,7 +4,10 @@ use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
 
+use super::limits::SceneLimitArgs;
 use super::CliError;
+use nffrt::accel::Bvh;
+use nffrt::geometry::build_geometry;
 use nffrt::Scene;
 
 /// A parsed scene with the name it is reported under and the time parsing took.
@@ -17,17 +20,18 @@ pub struct LoadedScene {
     pub parse_s: f64,
 }
 
-/// Reads and parses `path` (`-` is standard input). Parse errors come back as
+/// Reads and parses `path` (`-` is standard input) within `limits`: a file larger than
+/// `--max-scene-bytes` is refused before it is read. Parse errors come back as
 /// `PATH:LINE:COL: message` with the bad-scene exit code.
-pub fn load_scene(path: &Path) -> Result<LoadedScene, CliError> {
+pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
         path.display().to_string()
     };
-    let bytes = read_input(path, &name)?;
+    let bytes = read_input(path, &name, limits.max_scene_bytes)?;
     let t0 = Instant::now();
-    let scene = nffrt::nff::parse_bytes(&bytes)
+    let scene = nffrt::nff::parse_bytes_with(&bytes, &limits.parse_limits())
         .map_err(|e| CliError::scene(format!("{name}:{}:{}: {}", e.line, e.column, e.kind)))?;
     Ok(LoadedScene {
         scene,
@@ -36,26 +40,51 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, CliError> {
     })
 }
 
-fn read_input(path: &Path, name: &str) -> Result<Vec<u8>, CliError> {
+/// Reads at most `max_bytes` (one more byte means the input is too large, whatever
+/// its metadata claims: pipes and /proc files have no length).
+fn read_input(path: &Path, name: &str, max_bytes: u64) -> Result<Vec<u8>, CliError> {
     let mut bytes = Vec::new();
+    let too_large = || {
+        CliError::scene(format!(
+            "{name}: the scene is larger than {max_bytes} bytes (--max-scene-bytes raises the limit)"
+        ))
+    };
     if path == Path::new("-") {
         std::io::stdin()
             .lock()
+            .take(max_bytes.saturating_add(1))
             .read_to_end(&mut bytes)
             .map_err(|e| CliError::io(format!("reading standard input: {e}")))?;
-        return Ok(bytes);
+        return if bytes.len() as u64 > max_bytes {
+            Err(too_large())
+        } else {
+            Ok(bytes)
+        };
     }
     if path.is_dir() {
         return Err(CliError::io(format!("{name}: is a directory, not a scene file")));
     }
-    std::fs::read(path).map_err(|e| {
+    let cannot_read = |e: std::io::Error| {
         let why = match e.kind() {
             std::io::ErrorKind::NotFound => "no such file".to_string(),
             std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
             _ => e.to_string(),
         };
         CliError::io(format!("{name}: cannot read scene: {why}"))
-    })
+    };
+    let file = std::fs::File::open(path).map_err(cannot_read)?;
+    let known = file.metadata().map(|m| m.len()).unwrap_or(0);
+    if known > max_bytes {
+        return Err(too_large());
+    }
+    bytes.reserve(known as usize);
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(cannot_read)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
 }
 
 /// Prints the scene's warnings to standard error, at most `limit` of them.
@@ -70,4 +99,25 @@ pub fn print_warnings(loaded: &LoadedScene, limit: usize) {
     if w.len() > limit {
         eprintln!("{}: ... and {} more warnings", loaded.name, w.len() - limit);
     }
+}
+
+/// Builds the render-time geometry and its BVH, emptying the scene's primitive and
+/// vertex lists as soon as the geometry no longer needs them, before the BVH build
+/// (the memory peak): the tracer reads only the view, lights, materials and background.
+pub fn build_bvh(scene: &mut Scene) -> Bvh {
+    let geometry = build_geometry(scene);
+    for v in [
+        &mut scene.polygon_vertices,
+        &mut scene.patch_vertices,
+        &mut scene.patch_normals,
+    ] {
+        *v = Vec::new();
+    }
+    scene.spheres = Vec::new();
+    scene.cones = Vec::new();
+    scene.polygons = Vec::new();
+    scene.patches = Vec::new();
+    scene.planes = Vec::new();
+    scene.boxes = Vec::new();
+    Bvh::new(geometry)
 }

@@ -18,6 +18,7 @@ mod gen;
 mod image_out;
 mod info;
 mod interrupt;
+mod limits;
 mod load;
 mod merge;
 mod output;
@@ -26,8 +27,6 @@ mod progress;
 mod render;
 
 use clap::{Parser, Subcommand};
-
-pub use load::load_scene;
 
 /// Exit codes, documented in the README.
 pub mod exit {
@@ -116,9 +115,14 @@ pub fn stdout_failed(e: std::io::Error) -> ! {
 pub fn run() -> i32 {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
+        Err(e) if e.use_stderr() => {
+            eprintln!("nffrt: error: {} (see nffrt --help)", usage_line(&e));
+            return exit::USAGE;
+        }
         Err(e) => {
+            // --help and --version.
             let _ = e.print();
-            return if e.use_stderr() { exit::USAGE } else { exit::OK };
+            return exit::OK;
         }
     };
     interrupt::install();
@@ -136,4 +140,15 @@ pub fn run() -> i32 {
             e.code
         }
     }
+}
+
+/// The first line of clap's message, without its `error: ` prefix: one line per
+/// mistake, like every other error.
+fn usage_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("bad command line");
+    first.strip_prefix("error: ").unwrap_or(first).trim().to_string()
 }

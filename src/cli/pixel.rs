@@ -4,7 +4,7 @@
 
 use std::io::Write;
 
-use super::load::{load_scene, print_warnings};
+use super::load::{load_scene_with, print_warnings};
 use super::render::{render_options, RenderArgs};
 use super::CliError;
 use nffrt::accel::Bvh;
@@ -15,7 +15,7 @@ use nffrt::render::debug::trace_pixel;
 /// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let spec = args.pixel.as_deref().unwrap_or_default();
-    let loaded = load_scene(&args.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     print_warnings(&loaded, 20);
     let scene = &loaded.scene;
     let opts = render_options(args, scene);

@@ -8,12 +8,11 @@ use clap::Args;
 use serde::Serialize;
 
 use super::image_out::{display_name, format_of, Destination, Format, SOFTWARE_TEXT};
-use super::load::{load_scene, print_warnings};
+use super::limits::RenderLimitArgs;
+use super::load::{build_bvh, load_scene_with, print_warnings};
 use super::output::AtomicOutput;
 use super::progress::Progress;
 use super::{interrupt, pixel, CliError};
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
 use nffrt::image::{tiles, Region};
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
 use nffrt::Scene;
@@ -69,6 +68,9 @@ pub struct RenderArgs {
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Resource limits (see "Limits" in the README).
+    #[command(flatten)]
+    pub limits: RenderLimitArgs,
 }
 
 /// Counts and timings, as written by `--stats-json`.
@@ -123,7 +125,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             out_path.display()
         )));
     }
-    let loaded = load_scene(&args.scene)?;
+    let mut loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     print_warnings(&loaded, 20);
     let scene = &loaded.scene;
     let opts = render_options(&args, scene);
@@ -132,6 +134,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         Some(s) => Region::parse_within(s, opts.width, opts.height).map_err(CliError::usage)?,
         None => full,
     };
+    let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
+    (args.limits).check_pixels(region.width(), region.height(), opts.sampling, sized_by_flags)?;
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
     let mut stats_out = args.stats_json.as_deref().map(AtomicOutput::create).transpose()?;
@@ -143,7 +147,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
 
     let t0 = Instant::now();
-    let bvh = pool.install(|| Bvh::new(build_geometry(scene)));
+    let bvh = pool.install(|| build_bvh(&mut loaded.scene));
+    let scene = &loaded.scene;
     let build_s = t0.elapsed().as_secs_f64();
     interrupt::check()?;
     let t1 = Instant::now();

@@ -62,7 +62,15 @@ impl PolygonShape {
         let first = data.polygon_points_2d.len() as u32;
         data.polygon_points_2d
             .extend(points.iter().map(|p| [p[a1], p[a2]]));
-        let bounds = points.iter().fold(Aabb::EMPTY, |b, p| b.grow(*p));
+        // The hits lie on the fitted plane, inside the outline: the vertices lifted onto
+        // the plane along the dropped axis. For a non-planar polygon these leave the
+        // vertices' own box, which the BVH would then cull (found by tests/bvh_prop.rs).
+        let lift = |p: &Vec3| {
+            let mut q = p.to_array();
+            q[axis] = (offset - normal[a1] * p[a1] - normal[a2] * p[a2]) / normal[axis];
+            Vec3::from_array(q)
+        };
+        let bounds = points.iter().fold(Aabb::EMPTY, |b, p| b.grow(*p).grow(lift(p)));
         PolygonShape {
             normal,
             offset,

@@ -18,10 +18,12 @@
 
 mod error;
 mod lexer;
+mod limits;
 mod parser;
 mod writer;
 
 pub use error::{ParseError, ParseErrorKind};
 pub use lexer::{Lexer, Token};
-pub use parser::{parse, parse_bytes, MAX_RESOLUTION};
+pub use limits::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES, MAX_WARNINGS};
+pub use parser::{parse, parse_bytes, parse_bytes_with, MAX_RESOLUTION};
 pub use writer::write_nff;

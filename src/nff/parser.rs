@@ -2,6 +2,7 @@
 
 use super::error::{ParseError, ParseErrorKind};
 use super::lexer::{Lexer, Token};
+use super::limits::{Limits, MAX_WARNINGS};
 use crate::math::Vec3;
 use crate::scene::{BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Scene, Sphere, View, Warning};
 
@@ -20,15 +21,33 @@ pub fn parse(src: &str) -> Result<Scene, ParseError> {
     parse_bytes(src.as_bytes())
 }
 
-/// Parses NFF from raw bytes (which need not be UTF-8: a non-ASCII token is reported as an error).
+/// Parses NFF from raw bytes (which need not be UTF-8: a non-ASCII token is reported
+/// as an error), within the default [`Limits`].
 pub fn parse_bytes(src: &[u8]) -> Result<Scene, ParseError> {
+    parse_bytes_with(src, &Limits::default())
+}
+
+/// Parses NFF from raw bytes, refusing a file that describes more than `limits` allow
+/// (at the first primitive, vertex or light past the limit).
+pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
     let mut p = Parser {
         lexer: Lexer::new(src),
         scene: Scene::default(),
         material: None,
         saw_view: false,
+        limits: *limits,
+        warnings_left_out: 0,
     };
     p.run()?;
+    if p.warnings_left_out > 0 {
+        let n = p.warnings_left_out;
+        let end = p.lexer.end_location();
+        p.scene.warnings.push(Warning {
+            line: end.0,
+            column: end.1,
+            message: format!("... and {n} more warnings"),
+        });
+    }
     Ok(p.scene)
 }
 
@@ -38,6 +57,9 @@ struct Parser<'a> {
     /// Index of the current material, `None` before the first `f`.
     material: Option<u32>,
     saw_view: bool,
+    limits: Limits,
+    /// Warnings past [`MAX_WARNINGS`], counted instead of kept.
+    warnings_left_out: usize,
 }
 
 /// A 1-based location.
@@ -92,7 +114,39 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
+    /// Refuses the primitive at `at` if the scene already holds the most allowed.
+    fn admit_primitive(&self, at: Loc) -> Result<(), ParseError> {
+        let max = self.limits.max_primitives;
+        if self.scene.primitive_count() >= max {
+            return Err(invalid(
+                at,
+                format!("more than {max} primitives (the limit; nffrt's --max-primitives raises it)"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses another polygon or patch vertex (of the entity at `kw`) past the limit,
+    /// reporting it at the vertex's first token.
+    fn admit_vertex(&self, kw: &Token) -> Result<(), ParseError> {
+        let max = self.limits.max_vertices;
+        if self.scene.polygon_vertices.len() + self.scene.patch_vertices.len() >= max {
+            let at = self.lexer.clone().next().map_or(loc(kw), |t| loc(&t));
+            return Err(invalid(
+                at,
+                format!(
+                    "more than {max} polygon and patch vertices (the limit; nffrt's --max-vertices raises it)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn warn(&mut self, at: Loc, message: String) {
+        if self.scene.warnings.len() >= MAX_WARNINGS {
+            self.warnings_left_out += 1;
+            return;
+        }
         self.scene.warnings.push(Warning {
             line: at.0,
             column: at.1,
@@ -252,7 +306,14 @@ impl<'a> Parser<'a> {
     }
 
     /// `l x y z [r g b]`
-    fn light(&mut self, _kw: &Token) -> Result<(), ParseError> {
+    fn light(&mut self, kw: &Token) -> Result<(), ParseError> {
+        let max = self.limits.max_lights;
+        if self.scene.lights.len() >= max {
+            return Err(invalid(
+                loc(kw),
+                format!("more than {max} lights (the limit; nffrt's --max-lights raises it)"),
+            ));
+        }
         let position = self.vec3("light position x y z")?;
         let mut peek = self.lexer.clone();
         let color = match peek.next() {
@@ -287,6 +348,7 @@ impl<'a> Parser<'a> {
 
     /// `s cx cy cz r`
     fn sphere(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let center = self.vec3("sphere centre x y z")?;
         let radius = self.number("sphere radius")?;
         let material = self.current_material(loc(kw));
@@ -305,6 +367,7 @@ impl<'a> Parser<'a> {
 
     /// `c bx by bz br ax ay az ar`
     fn cone(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let base = self.vec3("cone base x y z")?;
         let base_radius = self.number("cone base radius")?;
         let apex = self.vec3("cone apex x y z")?;
@@ -337,6 +400,7 @@ impl<'a> Parser<'a> {
 
     /// `p n` then n times `x y z`
     fn polygon(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let (n, n_at) = self.count("polygon vertex count")?;
         if n < 3 {
             return Err(invalid(
@@ -347,6 +411,7 @@ impl<'a> Parser<'a> {
         let first = self.scene.polygon_vertices.len();
         // No reservation from `n`: a huge count fails at the end of the file, not in the allocator.
         for _ in 0..n {
+            self.admit_vertex(kw)?;
             let v = self.vec3("polygon vertex x y z")?;
             self.scene.polygon_vertices.push(v);
         }
@@ -371,6 +436,7 @@ impl<'a> Parser<'a> {
 
     /// `pp n` then n times `x y z nx ny nz`
     fn patch(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let (n, n_at) = self.count("patch vertex count")?;
         if n < 3 {
             return Err(invalid(
@@ -380,6 +446,7 @@ impl<'a> Parser<'a> {
         }
         let first = self.scene.patch_vertices.len();
         for _ in 0..n {
+            self.admit_vertex(kw)?;
             let v = self.vec3("patch vertex x y z")?;
             let nrm = self.vec3("patch normal nx ny nz")?;
             self.scene.patch_vertices.push(v);
@@ -407,6 +474,7 @@ impl<'a> Parser<'a> {
 
     /// `pl x1 y1 z1 x2 y2 z2 x3 y3 z3`
     fn plane(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let points = [
             self.vec3("plane point 1 x y z")?,
             self.vec3("plane point 2 x y z")?,
@@ -427,6 +495,7 @@ impl<'a> Parser<'a> {
 
     /// `aabb xmin xmax ymin ymax zmin zmax`
     fn aabb(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
         let mut lo = [0.0; 3];
         let mut hi = [0.0; 3];
         for (axis, name) in ["x", "y", "z"].iter().enumerate() {

@@ -151,20 +151,24 @@ pub fn render_region(
 /// The SPD protocol's pixel value: the mean of its four corner values.
 #[inline]
 pub fn spd_mean(top_left: Vec3, top_right: Vec3, bottom_left: Vec3, bottom_right: Vec3) -> Vec3 {
-    (top_left + top_right + bottom_left + bottom_right) * 0.25
+    // Quartered before the sum (exact: a power of two), so four huge but finite
+    // corners cannot overflow to infinity.
+    top_left * 0.25 + top_right * 0.25 + bottom_left * 0.25 + bottom_right * 0.25
 }
 
 /// The box-filtered value of pixel `(x, y)`: the mean of `sample` at its stratified
-/// raster positions, summed in sample order.
+/// raster positions, each weighted by `1/n` before the sum (in sample order) so that
+/// huge but finite samples cannot overflow to infinity.
 #[inline]
 pub fn stratified_mean(strata: &Strata, x: u32, y: u32, mut sample: impl FnMut(f32, f32) -> Vec3) -> Vec3 {
     let n = strata.samples();
+    let weight = 1.0 / n as f32;
     let mut sum = Vec3::ZERO;
     for s in 0..n {
         let (px, py) = strata.position(x, y, s);
-        sum += sample(px, py);
+        sum += sample(px, py) * weight;
     }
-    sum / n as f32
+    sum
 }
 
 /// Evaluates `f(i, j)` over `cols` x `rows` points starting at `(x0, y0)`, rows in

@@ -198,8 +198,9 @@ impl<'a> Tracer<'a> {
             }
             let lambert = ns.dot(l).max(0.0);
             let h = (l + view).normalize();
+            // A negative exponent would turn a zero cosine into infinity.
             let phong = if m.ks > 0.0 {
-                m.ks * ns.dot(h).max(0.0).powf(m.shine)
+                m.ks * ns.dot(h).max(0.0).powf(m.shine.max(0.0))
             } else {
                 0.0
             };

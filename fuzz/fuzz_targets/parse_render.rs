@@ -1,0 +1,51 @@
+//! Any bytes through the whole pipeline: parse, build the geometry and the BVH,
+//! validate the BVH, render 8x8 pixels at depth 4 in both sampling modes. Nothing
+//! may panic and every pixel must be finite.
+
+#![no_main]
+
+use std::sync::OnceLock;
+
+use libfuzzer_sys::fuzz_target;
+use nffrt::accel::Bvh;
+use nffrt::geometry::build_geometry;
+use nffrt::nff::parse_bytes;
+use nffrt::render::{render, RenderOptions, Sampling};
+
+/// Longer inputs only make slower renders, not new paths.
+const MAX_INPUT: usize = 8192;
+
+fuzz_target!(|data: &[u8]| {
+    if data.len() > MAX_INPUT {
+        return;
+    }
+    let Ok(scene) = parse_bytes(data) else {
+        return;
+    };
+    let bvh = Bvh::new(build_geometry(&scene));
+    if let Err(e) = bvh.validate() {
+        panic!("invalid BVH: {e}");
+    }
+    // One thread: fuzzing runs one job beside other work, and rayon's pool would
+    // otherwise take every core.
+    static POOL: OnceLock<rayon::ThreadPool> = OnceLock::new();
+    let pool = POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("a one-thread pool starts")
+    });
+    for sampling in [Sampling::PixelCenters, Sampling::SpdCorners] {
+        let opts = RenderOptions {
+            width: 8,
+            height: 8,
+            max_depth: 4,
+            sampling,
+        };
+        let (image, _) = pool.install(|| render(&scene, &bvh, &opts));
+        assert_eq!(image.pixels.len(), 64);
+        for (i, p) in image.pixels.iter().enumerate() {
+            assert!(p.is_finite(), "pixel {i} is {p:?}");
+        }
+    }
+});

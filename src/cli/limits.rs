@@ -1,0 +1,99 @@
+//! Resource limits on the command line: how large a scene file, how many primitives,
+//! vertices and lights, and how many pixels one run may take on. Everything is
+//! checked before the memory it guards is allocated; each limit has a flag to raise
+//! it (see "Limits" in the README).
+
+use clap::Args;
+
+use super::CliError;
+use nffrt::nff::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
+use nffrt::render::Sampling;
+
+/// Default of `--max-scene-bytes`: 2 GiB of NFF text.
+pub const DEFAULT_MAX_SCENE_BYTES: u64 = 2 << 30;
+/// Default of `--max-pixels`: 64 Mi eye-ray grid points (8192 x 8192), about 1.6 GB
+/// of float image while rendering.
+pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
+
+/// Limits on what a scene file may make nffrt read and build.
+#[derive(Args, Debug, Clone)]
+pub struct SceneLimitArgs {
+    /// Refuse scene files larger than N bytes.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SCENE_BYTES)]
+    pub max_scene_bytes: u64,
+    /// Refuse scenes with more than N primitives.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PRIMITIVES)]
+    pub max_primitives: usize,
+    /// Refuse scenes with more than N polygon and patch vertices in all.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
+    pub max_vertices: usize,
+    /// Refuse scenes with more than N lights.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_LIGHTS)]
+    pub max_lights: usize,
+}
+
+impl Default for SceneLimitArgs {
+    fn default() -> Self {
+        SceneLimitArgs {
+            max_scene_bytes: DEFAULT_MAX_SCENE_BYTES,
+            max_primitives: DEFAULT_MAX_PRIMITIVES,
+            max_vertices: DEFAULT_MAX_VERTICES,
+            max_lights: DEFAULT_MAX_LIGHTS,
+        }
+    }
+}
+
+impl SceneLimitArgs {
+    /// The parser's share of the limits.
+    pub fn parse_limits(&self) -> Limits {
+        Limits {
+            max_primitives: self.max_primitives,
+            max_vertices: self.max_vertices,
+            max_lights: self.max_lights,
+        }
+    }
+}
+
+/// The scene limits plus the image size limit of `nffrt render`.
+#[derive(Args, Debug, Clone)]
+pub struct RenderLimitArgs {
+    /// Limits on the scene file.
+    #[command(flatten)]
+    pub scene: SceneLimitArgs,
+    /// Refuse to render more than N pixels (counting the (w+1) x (h+1) corners with --spd).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS)]
+    pub max_pixels: u64,
+}
+
+impl RenderLimitArgs {
+    /// Refuses a render whose eye-ray grid over `width` x `height` pixels exceeds
+    /// `--max-pixels`, before any image memory is allocated: a usage error if the size
+    /// came from the command line (`from_flags`), a bad scene if it came from the file.
+    /// Supersampling (`--spp`) takes more time, not more memory, so it does not count.
+    pub fn check_pixels(
+        &self,
+        width: u32,
+        height: u32,
+        sampling: Sampling,
+        from_flags: bool,
+    ) -> Result<(), CliError> {
+        let (w, h) = (width as u64, height as u64);
+        let grid = match sampling {
+            Sampling::PixelCenters | Sampling::Stratified { .. } => w * h,
+            Sampling::SpdCorners => (w + 1) * (h + 1),
+        };
+        if grid > self.max_pixels {
+            let message = format!(
+                "{w}x{h} is {grid} pixels, more than the limit of {} (--max-pixels raises it; \
+                 the image takes about 24 bytes per pixel while rendering)",
+                self.max_pixels
+            );
+            return Err(if from_flags {
+                CliError::usage(message)
+            } else {
+                CliError::scene(message)
+            });
+        }
+        Ok(())
+    }
+}

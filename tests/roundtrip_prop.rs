@@ -1,0 +1,210 @@
+//! Random scenes written to NFF text and parsed back give the same scene (property
+//! test; the fixed corpora are in `roundtrip.rs`). Numbers range from tiny to huge,
+//! every primitive kind and optional field appears, and materials are shared at random.
+
+mod common;
+
+use common::compare::same_scene;
+use nffrt::math::Vec3;
+use nffrt::nff::{parse_bytes, write_nff};
+use nffrt::scene::{BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Scene, Sphere, View};
+use proptest::prelude::*;
+
+/// Any finite float, mostly moderate, sometimes tiny or huge.
+fn num() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        4 => -1e3f32..1e3,
+        1 => (-30i32..30, -9.99f32..9.99).prop_map(|(e, m)| m * 10f32.powi(e)),
+        1 => Just(0.0f32),
+    ]
+}
+
+fn vec3() -> impl Strategy<Value = Vec3> {
+    (num(), num(), num()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Unit axis `k` (0, 1, 2) scaled by `s`.
+fn axis(k: usize, s: f32) -> Vec3 {
+    let mut a = [0.0; 3];
+    a[k] = s;
+    Vec3::from_array(a)
+}
+
+/// A regular `n`-gon in an axis plane: never degenerate.
+fn ngon() -> impl Strategy<Value = Vec<Vec3>> {
+    (
+        3usize..7,
+        -1e3f32..1e3,
+        -1e3f32..1e3,
+        -1e3f32..1e3,
+        0.01f32..100.0,
+        0usize..3,
+    )
+        .prop_map(|(n, x, y, z, r, k)| {
+            let c = Vec3::new(x, y, z);
+            (0..n)
+                .map(|i| {
+                    let a = std::f32::consts::TAU * i as f32 / n as f32;
+                    c + axis(k, r * a.cos()) + axis((k + 1) % 3, r * a.sin())
+                })
+                .collect()
+        })
+}
+
+fn material() -> impl Strategy<Value = Material> {
+    (vec3(), num(), num(), num(), num(), num()).prop_map(|(color, kd, ks, shine, t, ior)| Material {
+        color,
+        kd,
+        ks,
+        shine,
+        t,
+        ior,
+    })
+}
+
+fn view() -> impl Strategy<Value = View> {
+    (
+        (-1e3f32..1e3, -1e3f32..1e3, -1e3f32..1e3),
+        (-10f32..10.0, -10f32..10.0, 0.5f32..10.0),
+        0.5f32..179.5,
+        0.0f32..10.0,
+        (1u32..=4096, 1u32..=4096),
+    )
+        .prop_map(|((x, y, z), (dx, dy, dz), angle, hither, (width, height))| {
+            let from = Vec3::new(x, y, z);
+            View {
+                from,
+                at: from + Vec3::new(dx, dy, dz),
+                up: Vec3::new(0.0, 1.0, 0.0),
+                angle,
+                hither,
+                width,
+                height,
+            }
+        })
+}
+
+/// One primitive of a random kind, added to `s` with material `m` at line `line`.
+#[derive(Clone, Debug)]
+enum Prim {
+    Sphere(Vec3, f32),
+    Cone(Vec3, f32, Vec3, f32),
+    Polygon(Vec<Vec3>),
+    Patch(Vec<Vec3>, Vec<Vec3>),
+    Plane(Vec<Vec3>),
+    Box(Vec3, Vec3),
+}
+
+fn prim() -> impl Strategy<Value = Prim> {
+    let nonzero = num().prop_filter("non-zero radius", |r| *r != 0.0);
+    prop_oneof![
+        (vec3(), nonzero).prop_map(|(c, r)| Prim::Sphere(c, r)),
+        (vec3(), 0.01f32..10.0, vec3(), 0.0f32..10.0, any::<bool>())
+            .prop_filter("distinct ends", |(b, _, a, _, _)| a != b)
+            .prop_map(|(b, rb, a, ra, inside)| {
+                let sign = if inside { -1.0 } else { 1.0 };
+                Prim::Cone(b, sign * rb, a, sign * ra)
+            }),
+        ngon().prop_map(Prim::Polygon),
+        ngon()
+            .prop_flat_map(|v| {
+                let n = v.len();
+                (Just(v), prop::collection::vec(vec3(), n))
+            })
+            .prop_map(|(v, n)| Prim::Patch(v, n)),
+        ngon().prop_map(|v| Prim::Plane(v[..3].to_vec())),
+        (vec3(), vec3()).prop_map(|(a, b)| Prim::Box(a.min(b), a.max(b))),
+    ]
+}
+
+fn scene() -> impl Strategy<Value = Scene> {
+    (
+        view(),
+        vec3(),
+        prop::collection::vec((vec3(), prop::option::of(vec3())), 0..4),
+        prop::collection::vec(material(), 1..5),
+        prop::collection::vec((prim(), any::<prop::sample::Index>()), 0..24),
+    )
+        .prop_map(|(view, background, lights, materials, prims)| {
+            let mut s = Scene {
+                view,
+                background,
+                lights: lights
+                    .into_iter()
+                    .map(|(position, color)| Light { position, color })
+                    .collect(),
+                ..Scene::default()
+            };
+            let n_mat = materials.len();
+            s.materials = materials;
+            for (i, (p, m)) in prims.into_iter().enumerate() {
+                let (material, line) = (m.index(n_mat) as u32, i as u32 + 1);
+                match p {
+                    Prim::Sphere(center, radius) => s.spheres.push(Sphere {
+                        center,
+                        radius,
+                        material,
+                        line,
+                    }),
+                    Prim::Cone(base, base_radius, apex, apex_radius) => s.cones.push(Cone {
+                        base,
+                        base_radius,
+                        apex,
+                        apex_radius,
+                        material,
+                        line,
+                    }),
+                    Prim::Polygon(v) => {
+                        let first = s.polygon_vertices.len() as u32;
+                        let count = v.len() as u32;
+                        s.polygon_vertices.extend(v);
+                        s.polygons.push(Polygon {
+                            first,
+                            count,
+                            material,
+                            line,
+                        });
+                    }
+                    Prim::Patch(v, n) => {
+                        let first = s.patch_vertices.len() as u32;
+                        let count = v.len() as u32;
+                        s.patch_vertices.extend(v);
+                        s.patch_normals.extend(n);
+                        s.patches.push(Patch {
+                            first,
+                            count,
+                            material,
+                            line,
+                        });
+                    }
+                    Prim::Plane(v) => s.planes.push(Plane {
+                        points: [v[0], v[1], v[2]],
+                        material,
+                        line,
+                    }),
+                    Prim::Box(min, max) => s.boxes.push(BoxPrim {
+                        min,
+                        max,
+                        material,
+                        line,
+                    }),
+                }
+            }
+            s
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn random_scenes_survive_write_and_parse(scene in scene()) {
+        let mut text = Vec::new();
+        write_nff(&scene, &mut text).unwrap();
+        let back = parse_bytes(&text).map_err(|e| {
+            TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&text)))
+        })?;
+        prop_assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+        prop_assert_eq!(same_scene(&scene, &back), Ok(()), "{}", String::from_utf8_lossy(&text));
+    }
+}
