@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Side-by-side timings of nffrt against its peers, all in one run on one machine.
+# Needs ../shared (scenes and bench/), a release build, POV-Ray (apt-get install povray)
+# and a Python with embreex (see ../shared/bench/README.md). Prints medians.
+#
+#   scripts/bench-peers.sh [RUNS]         RUNS repetitions per figure (default 3)
+#   EMBREE_PY=/path/to/python             Python with embreex (default .bench-venv/bin/python)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-3}
+shared=../shared
+nffrt=target/release/nffrt
+py=${EMBREE_PY:-../.bench-venv/bin/python}
+[ -x "$nffrt" ] || cargo build --release -q
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
+wall() { local t0 t1; t0=$(date +%s%N); "$@" >/dev/null 2>&1; t1=$(date +%s%N); awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
+total() { local s=0 t; for scene in "$@"; do t=$(wall "$nffrt" render "$scene" $NFFRT_FLAGS -q -o "$tmp/out.png"); s=$(awk -v s="$s" -v t="$t" 'BEGIN {print s+t}'); done; echo "$s"; }
+
+spd=(balls gears mount rings teapot tetra tree)
+echo "== whole renders (wall seconds, median of $runs)"
+spd_files=(); for s in "${spd[@]}"; do spd_files+=("$shared/scenes/spd/$s.nff"); done
+NFFRT_FLAGS=--spd; nffrt_spd=$(for _ in $(seq "$runs"); do total "${spd_files[@]}"; done | median)
+echo "nffrt --spd, 7 SPD scenes:        $nffrt_spd s"
+p3d_files=(); for s in balls_low balls_medium balls_high mount_low mount_high mount_very_high; do p3d_files+=("$shared/scenes/p3d/$s.nff"); done
+NFFRT_FLAGS="--width 512 --height 512"; nffrt_p3d=$(for _ in $(seq "$runs"); do total "${p3d_files[@]}"; done | median)
+echo "nffrt, 6 course scenes 512x512:   $nffrt_p3d s"
+if command -v povray >/dev/null; then
+    pov=$(for _ in $(seq "$runs"); do s=0; for n in "${spd[@]}"; do t=$("$shared/bench/povray_peer.sh" "$n" 2>/dev/null | tail -1); s=$(awk -v s="$s" -v t="$t" 'BEGIN {print s+t}'); done; echo "$s"; done | median)
+    echo "POV-Ray 3.7, 7 SPD scenes:        $pov s   (ratio POV-Ray / nffrt = $(awk -v a="$pov" -v b="$nffrt_spd" 'BEGIN {printf "%.1f", a/b}'))"
+fi
+
+if [ -x "$py" ]; then
+    echo "== traversal, single thread, same rays (Mrays/s, median of $runs)"
+    printf '%-18s %-8s %10s %10s %8s %10s %10s\n' scene rays embree nffrt ratio embree-occl nffrt-occl
+    for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
+        name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
+        "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" --dump-rays "$tmp" >"$tmp/e.txt" 2>/dev/null
+        for set in primary random; do
+            e=$(for _ in $(seq "$runs"); do "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null | tail -1; done)
+            emb=$(echo "$e" | tr ' ' '\n' | grep "^${set}_mrays=" | cut -d= -f2 | median)
+            embo=$(echo "$e" | tr ' ' '\n' | grep "^${set}_occl_mrays=" | cut -d= -f2 | median)
+            n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1; done)
+            ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
+            ourso=$(echo "$n" | tr ' ' '\n' | grep "^rays_occl_mrays=" | cut -d= -f2 | median)
+            printf '%-18s %-8s %10.2f %10.2f %8.2f %10.2f %10.2f\n' "$name" "$set" "$emb" "$ours" "$(awk -v a="$ours" -v b="$emb" 'BEGIN {print a/b}')" "$embo" "$ourso"
+        done
+    done
+fi
