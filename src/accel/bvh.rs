@@ -4,8 +4,9 @@ use super::build;
 use std::cell::RefCell;
 
 use super::node::BvhNode;
+use super::tri4::{Ray4, Tri4, LANES};
 use super::wide::{self, Node4, RayBoxes, WIDTH};
-use crate::geometry::{Geometry, GeometryData, Hit, Primitive};
+use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::{Ray, Vec3};
 
 /// Depth limit of the binary tree (the builder stays well below it).
@@ -51,14 +52,53 @@ fn sort_descending(v: &mut [(u32, f32)]) {
     }
 }
 
+/// Marks a wide leaf lane whose primitives are all triangles: its `child` is the first
+/// of `count & !TRI4_LEAF` [`Tri4`] blocks instead of the first primitive.
+const TRI4_LEAF: usize = 1 << 31;
+
+/// Repacks every wide leaf lane made only of triangles into [`Tri4`] blocks (marked
+/// with [`TRI4_LEAF`]); other leaves keep pointing at `primitives`.
+fn pack_triangle_leaves(wide: &mut [Node4], primitives: &[Primitive]) -> Vec<Tri4> {
+    let mut blocks = Vec::new();
+    let mut lane_triangles = Vec::with_capacity(LANES);
+    for node in wide.iter_mut() {
+        for lane in 0..WIDTH {
+            let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
+            if count == 0 {
+                continue;
+            }
+            let leaf = &primitives[first..first + count];
+            if !leaf.iter().all(|p| matches!(p.shape, Shape::Triangle(_))) {
+                continue;
+            }
+            let start = blocks.len();
+            for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
+                lane_triangles.clear();
+                for (k, p) in chunk.iter().enumerate() {
+                    if let Shape::Triangle(t) = p.shape {
+                        lane_triangles.push((t, (first + chunk_index * LANES + k) as u32));
+                    }
+                }
+                blocks.push(Tri4::new(&lane_triangles));
+            }
+            node.child[lane] = start as u32;
+            node.count[lane] = (TRI4_LEAF | (blocks.len() - start)) as u32;
+        }
+    }
+    blocks
+}
+
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
 /// (planes) kept beside it and tested linearly.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     /// The binary SAH tree (kept for statistics and validation).
     nodes: Vec<BvhNode>,
-    /// The same tree collapsed to 4-wide nodes, used by the queries.
+    /// The same tree collapsed to 4-wide nodes, used by the queries. A leaf lane made
+    /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]).
     wide: Vec<Node4>,
+    /// The triangles of all-triangle leaves, four to a block, in leaf order.
+    tri4: Vec<Tri4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
     primitives: Vec<Primitive>,
     bounded: usize,
@@ -113,14 +153,16 @@ impl Bvh {
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
-        let wide = if n_bounded > 0 {
+        let mut wide = if n_bounded > 0 {
             wide::collapse(&built.nodes).0
         } else {
             Vec::new()
         };
+        let tri4 = pack_triangle_leaves(&mut wide, &ordered);
         Bvh {
             nodes: built.nodes,
             wide,
+            tri4,
             primitives: ordered,
             bounded: n_bounded,
             data,
@@ -164,6 +206,7 @@ impl Bvh {
             return best;
         }
         let boxes = RayBoxes::new(ray);
+        let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|stack| {
             stack.clear();
             stack.push((0, 0.0));
@@ -189,6 +232,17 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
+                    if count & TRI4_LEAF != 0 {
+                        let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+                        count!(PRIMS, blocks.len() * LANES);
+                        for block in blocks {
+                            if let Some((h, prim)) = block.closest_hit(&ray4, t_best) {
+                                t_best = h.t;
+                                best = Some((h, prim));
+                            }
+                        }
+                        continue;
+                    }
                     count!(PRIMS, count);
                     for (k, p) in self.primitives[first..first + count].iter().enumerate() {
                         if let Some(h) = p.intersect(ray, t_best, &self.data) {
@@ -219,6 +273,7 @@ impl Bvh {
             return false;
         }
         let boxes = RayBoxes::new(ray);
+        let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|stack| {
             stack.clear();
             stack.push((0, 0.0));
@@ -235,6 +290,14 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
+                    if count & TRI4_LEAF != 0 {
+                        let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+                        count!(PRIMS, blocks.len() * LANES);
+                        if blocks.iter().any(|b| b.any_hit(&ray4, t_max)) {
+                            return true;
+                        }
+                        continue;
+                    }
                     let leaf = &self.primitives[first..first + count];
                     count!(PRIMS, count);
                     if leaf.iter().any(|p| p.intersect(ray, t_max, &self.data).is_some()) {

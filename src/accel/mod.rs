@@ -5,6 +5,7 @@
 mod build;
 mod bvh;
 mod node;
+mod tri4;
 mod wide;
 
 #[cfg(feature = "counters")]

@@ -1,0 +1,231 @@
+//! Leaf blocks of four triangles in structure-of-arrays form, intersected together.
+//!
+//! A BVH leaf made only of triangles is stored as one or more [`Tri4`] blocks; one
+//! Möller–Trumbore test over four lanes replaces four scalar ones. Every lane
+//! performs exactly the scalar [`Triangle::intersect`] arithmetic (same operations in
+//! the same order, no fused multiply-add), so hits, distances and barycentrics are
+//! bit-identical to the scalar test's, and ties go to the lowest lane as they go to
+//! the first primitive in the scalar loop.
+
+use wide::f32x4;
+
+use crate::geometry::{Hit, Triangle};
+use crate::math::Ray;
+
+/// Lanes per block.
+pub const LANES: usize = 4;
+
+/// Up to four triangles: `v0`, `e1 = v1 − v0`, `e2 = v2 − v0` per lane, `[axis][lane]`,
+/// and the index of each lane's primitive. Unused lanes have zero edges (a zero
+/// determinant, never hit) and primitive index `u32::MAX`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct Tri4 {
+    v0: [[f32; LANES]; 3],
+    e1: [[f32; LANES]; 3],
+    e2: [[f32; LANES]; 3],
+    /// Primitive index of each lane in the BVH's primitive array.
+    pub prim: [u32; LANES],
+}
+
+const _: () = assert!(std::mem::size_of::<Tri4>() == 160);
+
+/// A ray broadcast to four lanes.
+#[derive(Clone, Copy)]
+pub struct Ray4 {
+    origin: [f32x4; 3],
+    dir: [f32x4; 3],
+}
+
+impl Ray4 {
+    /// Broadcasts `ray`.
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let (o, d) = (ray.origin, ray.dir);
+        Ray4 {
+            origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
+            dir: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
+        }
+    }
+}
+
+#[inline(always)]
+fn load(a: &[f32; LANES]) -> f32x4 {
+    f32x4::from(*a)
+}
+
+/// `a × b` per lane, component order as in `Vec3::cross`.
+#[inline(always)]
+fn cross(a: &[f32x4; 3], b: &[f32x4; 3]) -> [f32x4; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `a · b` per lane, summed left to right as in `Vec3::dot`.
+#[inline(always)]
+fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Tri4 {
+    /// Packs up to four triangles with their primitive indices.
+    pub fn new(triangles: &[(Triangle, u32)]) -> Tri4 {
+        assert!(
+            triangles.len() <= LANES,
+            "a block holds at most {LANES} triangles"
+        );
+        let mut block = Tri4 {
+            v0: [[0.0; LANES]; 3],
+            e1: [[0.0; LANES]; 3],
+            e2: [[0.0; LANES]; 3],
+            prim: [u32::MAX; LANES],
+        };
+        for (lane, (t, prim)) in triangles.iter().enumerate() {
+            for (axis, (v0, (e1, e2))) in
+                t.v0.to_array()
+                    .into_iter()
+                    .zip(t.e1.to_array().into_iter().zip(t.e2.to_array()))
+                    .enumerate()
+            {
+                block.v0[axis][lane] = v0;
+                block.e1[axis][lane] = e1;
+                block.e2[axis][lane] = e2;
+            }
+            block.prim[lane] = *prim;
+        }
+        block
+    }
+
+    /// The four lanes' distances, barycentrics and a mask of the lanes hit with
+    /// `0 < t < t_max`.
+    #[inline(always)]
+    fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
+        let e1 = [load(&self.e1[0]), load(&self.e1[1]), load(&self.e1[2])];
+        let e2 = [load(&self.e2[0]), load(&self.e2[1]), load(&self.e2[2])];
+        let p = cross(&ray.dir, &e2);
+        let det = dot(&e1, &p);
+        let inv_det = f32x4::ONE / det;
+        let s = [
+            ray.origin[0] - load(&self.v0[0]),
+            ray.origin[1] - load(&self.v0[1]),
+            ray.origin[2] - load(&self.v0[2]),
+        ];
+        let u = dot(&s, &p) * inv_det;
+        let q = cross(&s, &e1);
+        let v = dot(&ray.dir, &q) * inv_det;
+        let t = dot(&e2, &q) * inv_det;
+        let zero = f32x4::ZERO;
+        let one = f32x4::ONE;
+        // Comparisons with a NaN are false, so NaN lanes drop out as in the scalar test.
+        let ok = det.simd_ne(zero)
+            & u.simd_ge(zero)
+            & u.simd_le(one)
+            & v.simd_ge(zero)
+            & (u + v).simd_le(one)
+            & t.simd_gt(zero)
+            & t.simd_lt(f32x4::splat(t_max));
+        (t, u, v, ok.to_bitmask())
+    }
+
+    /// The nearest hit with `0 < t < t_max` (the lowest lane among equals), and its
+    /// primitive index.
+    #[inline(always)]
+    pub fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
+        let (t, u, v, mut mask) = self.test(ray, t_max);
+        if mask == 0 {
+            return None;
+        }
+        let (t, u, v) = (t.to_array(), u.to_array(), v.to_array());
+        let mut lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        while mask != 0 {
+            let k = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if t[k] < t[lane] {
+                lane = k;
+            }
+        }
+        let hit = Hit {
+            t: t[lane],
+            u: u[lane],
+            v: v[lane],
+        };
+        Some((hit, self.prim[lane]))
+    }
+
+    /// True when any lane is hit with `0 < t < t_max`.
+    #[inline(always)]
+    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> bool {
+        self.test(ray, t_max).3 != 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    fn tri(z: f32, scale: f32) -> Triangle {
+        Triangle::new(
+            Vec3::new(-scale, -scale, z),
+            Vec3::new(scale, -scale, z),
+            Vec3::new(0.0, scale, z),
+            Triangle::FLAT,
+        )
+    }
+
+    #[test]
+    fn each_lane_matches_the_scalar_test_bit_for_bit() {
+        let tris = [tri(3.0, 1.0), tri(2.0, 0.5), tri(5.0, 4.0), tri(-1.0, 1.0)];
+        let block = Tri4::new(&[(tris[0], 10), (tris[1], 11), (tris[2], 12), (tris[3], 13)]);
+        for (i, dir) in [
+            (0.1, 0.2, 1.0),
+            (0.0, 0.0, 1.0),
+            (0.7, 0.1, 1.0),
+            (0.0, 0.0, -1.0),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let ray = Ray::new(
+                Vec3::new(0.05 * i as f32, 0.0, 0.0),
+                Vec3::new(dir.0, dir.1, dir.2),
+            );
+            let expected = tris
+                .iter()
+                .enumerate()
+                .filter_map(|(k, t)| t.intersect(&ray, 100.0).map(|h| (h, 10 + k as u32)))
+                .fold(None::<(Hit, u32)>, |best, h| match best {
+                    Some(b) if b.0.t <= h.0.t => Some(b),
+                    _ => Some(h),
+                });
+            assert_eq!(block.closest_hit(&Ray4::new(&ray), 100.0), expected, "ray {i}");
+            assert_eq!(block.any_hit(&Ray4::new(&ray), 100.0), expected.is_some());
+        }
+    }
+
+    #[test]
+    fn the_nearest_lane_wins_and_t_max_is_exclusive() {
+        let block = Tri4::new(&[(tri(3.0, 1.0), 0), (tri(2.0, 1.0), 1), (tri(2.0, 1.0), 2)]);
+        let ray = Ray4::new(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)));
+        // Lanes 1 and 2 tie at t = 2: the lower lane wins.
+        assert_eq!(
+            block.closest_hit(&ray, 10.0).map(|h| (h.0.t, h.1)),
+            Some((2.0, 1))
+        );
+        assert_eq!(block.closest_hit(&ray, 2.0), None);
+        assert!(!block.any_hit(&ray, 2.0));
+        assert!(block.any_hit(&ray, 2.5));
+    }
+
+    #[test]
+    fn empty_lanes_are_never_hit() {
+        let block = Tri4::new(&[]);
+        let ray = Ray4::new(&Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)));
+        assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
+        assert!(!block.any_hit(&ray, f32::INFINITY));
+    }
+}
