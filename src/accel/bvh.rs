@@ -1,7 +1,7 @@
 //! The BVH over a scene's primitives and its two queries, `closest_hit` and `occluded`.
 
 use super::build;
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use super::node::BvhNode;
 use super::tri4::{Ray4, Tri4, LANES};
@@ -254,7 +254,11 @@ impl Bvh {
                 // Push far to near so that the nearest child is popped first.
                 let inner = &mut inner[..n_inner];
                 sort_descending(inner);
-                stack.extend_from_slice(inner);
+                // Element by element: a slice copy of at most four entries would be a
+                // call to memmove.
+                for &entry in inner.iter() {
+                    stack.push(entry);
+                }
             }
         });
         best
@@ -263,14 +267,40 @@ impl Bvh {
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        if self.primitives[self.bounded..]
+        self.occluder(ray, t_max).is_some()
+    }
+
+    /// [`Bvh::occluded`] that first tries primitive `hint` (an index from an earlier
+    /// query; any value is safe) and leaves in it the occluder found, if any: neighbouring
+    /// shadow rays are usually blocked by the same primitive (Haines' shadow cache). The
+    /// answer is the same as `occluded`'s.
+    #[inline]
+    pub fn occluded_hinted(&self, ray: &Ray, t_max: f32, hint: &Cell<u32>) -> bool {
+        if let Some(p) = self.primitives.get(hint.get() as usize) {
+            if p.intersect(ray, t_max, &self.data).is_some() {
+                return true;
+            }
+        }
+        match self.occluder(ray, t_max) {
+            Some(index) => {
+                hint.set(index);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Some primitive lying on the ray with `0 < t < t_max` (the first one found).
+    fn occluder(&self, ray: &Ray, t_max: f32) -> Option<u32> {
+        let unbounded = &self.primitives[self.bounded..];
+        if let Some(i) = unbounded
             .iter()
-            .any(|p| p.intersect(ray, t_max, &self.data).is_some())
+            .position(|p| p.intersect(ray, t_max, &self.data).is_some())
         {
-            return true;
+            return Some((self.bounded + i) as u32);
         }
         if self.wide.is_empty() {
-            return false;
+            return None;
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
@@ -293,19 +323,22 @@ impl Bvh {
                     if count & TRI4_LEAF != 0 {
                         let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
                         count!(PRIMS, blocks.len() * LANES);
-                        if blocks.iter().any(|b| b.any_hit(&ray4, t_max)) {
-                            return true;
+                        if let Some(p) = blocks.iter().find_map(|b| b.any_hit(&ray4, t_max)) {
+                            return Some(p);
                         }
                         continue;
                     }
                     let leaf = &self.primitives[first..first + count];
                     count!(PRIMS, count);
-                    if leaf.iter().any(|p| p.intersect(ray, t_max, &self.data).is_some()) {
-                        return true;
+                    if let Some(k) = leaf
+                        .iter()
+                        .position(|p| p.intersect(ray, t_max, &self.data).is_some())
+                    {
+                        return Some((first + k) as u32);
                     }
                 }
             }
-            false
+            None
         })
     }
 

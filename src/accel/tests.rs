@@ -121,6 +121,17 @@ proptest! {
             for t_max in [1.0f32, 5.0, f32::INFINITY] {
                 let any = bvh.closest_hit_linear(&r, t_max).is_some();
                 prop_assert_eq!(bvh.occluded(&r, t_max), any);
+                // The shadow cache never changes the answer, whatever the hint holds
+                // (nothing, a primitive, a stale index past the end); a found occluder
+                // is left in it and really lies on the ray.
+                for start in [u32::MAX, 0, 7, 1000] {
+                    let hint = std::cell::Cell::new(start);
+                    prop_assert_eq!(bvh.occluded_hinted(&r, t_max, &hint), any);
+                    if hint.get() != start {
+                        let p = bvh.primitive(hint.get());
+                        prop_assert!(p.intersect(&r, t_max, bvh.data()).is_some());
+                    }
+                }
             }
         }
     }

@@ -156,10 +156,11 @@ impl Tri4 {
         Some((hit, self.prim[lane]))
     }
 
-    /// True when any lane is hit with `0 < t < t_max`.
+    /// The primitive index of the lowest lane hit with `0 < t < t_max`, if any.
     #[inline(always)]
-    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> bool {
-        self.test(ray, t_max).3 != 0
+    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
+        let mask = self.test(ray, t_max).3;
+        (mask != 0).then(|| self.prim[mask.trailing_zeros() as usize])
     }
 }
 
@@ -203,7 +204,10 @@ mod tests {
                     _ => Some(h),
                 });
             assert_eq!(block.closest_hit(&Ray4::new(&ray), 100.0), expected, "ray {i}");
-            assert_eq!(block.any_hit(&Ray4::new(&ray), 100.0), expected.is_some());
+            assert_eq!(
+                block.any_hit(&Ray4::new(&ray), 100.0).is_some(),
+                expected.is_some()
+            );
         }
     }
 
@@ -217,8 +221,8 @@ mod tests {
             Some((2.0, 1))
         );
         assert_eq!(block.closest_hit(&ray, 2.0), None);
-        assert!(!block.any_hit(&ray, 2.0));
-        assert!(block.any_hit(&ray, 2.5));
+        assert_eq!(block.any_hit(&ray, 2.0), None);
+        assert_eq!(block.any_hit(&ray, 2.5), Some(1));
     }
 
     #[test]
@@ -226,6 +230,6 @@ mod tests {
         let block = Tri4::new(&[]);
         let ray = Ray4::new(&Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)));
         assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
-        assert!(!block.any_hit(&ray, f32::INFINITY));
+        assert_eq!(block.any_hit(&ray, f32::INFINITY), None);
     }
 }

@@ -161,6 +161,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
     let tracer = Tracer::new(scene, bvh, opts.max_depth);
     let mut stats = Stats::default();
     let mut samples = Vec::new();
+    super::trace::reset_shadow_cache();
     let mut trace_at = |px: f32, py: f32| {
         let mut rec = TreeRecorder {
             scene,

@@ -188,6 +188,7 @@ fn trace_grid(
                 return None;
             }
             let mut stats = Stats::default();
+            trace::reset_shadow_cache();
             let row = (0..cols as u32).map(|i| f(x0 + i, y0 + j, &mut stats)).collect();
             observer.row_done(stats.total_rays());
             Some((row, stats))

@@ -7,6 +7,8 @@
 
 use super::shade::{reflect, refract, Lighting};
 use super::stats::Stats;
+use std::cell::Cell;
+
 use crate::accel::Bvh;
 use crate::geometry::Primitive;
 use crate::math::{Ray, Vec3};
@@ -97,6 +99,26 @@ impl Recorder for NoRecord {
 /// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
 /// at distance `t`: proportional to the floating-point error of `p = o + t d`, so it
 /// works for tiny and huge scenes alike (no global epsilon).
+/// Lights and ray-tree depths with a shadow cache slot; shadow rays of other lights
+/// or deeper bounces simply go without one.
+const HINT_LIGHTS: usize = 8;
+const HINT_DEPTHS: usize = 8;
+const NO_HINT: u32 = u32::MAX;
+
+thread_local! {
+    /// Shadow cache (Haines): per light and depth, the primitive that last blocked a
+    /// shadow ray on this thread. It only changes which primitive is tested first,
+    /// never an answer; it is cleared at the start of every row (see
+    /// [`reset_shadow_cache`]) so each row's work is the same whichever thread runs it.
+    static SHADOW_HINTS: [Cell<u32>; HINT_LIGHTS * HINT_DEPTHS] =
+        const { [const { Cell::new(NO_HINT) }; HINT_LIGHTS * HINT_DEPTHS] };
+}
+
+/// Empties this thread's shadow cache (call before each independent unit of work).
+pub fn reset_shadow_cache() {
+    SHADOW_HINTS.with(|hints| hints.iter().for_each(|h| h.set(NO_HINT)));
+}
+
 #[inline]
 fn offset_scale(p: Vec3, ray: &Ray, t: f32) -> f32 {
     OFFSET_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
@@ -189,7 +211,14 @@ impl<'a> Tracer<'a> {
             let dist = to_light.length();
             let l = to_light / dist;
             stats.shadow_rays += 1;
-            if self.bvh.occluded(&Ray::new(above, l), dist) {
+            let shadow_ray = Ray::new(above, l);
+            let slot = k * HINT_DEPTHS + (depth as usize - 1);
+            let blocked = if k < HINT_LIGHTS && (depth as usize) <= HINT_DEPTHS {
+                SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, dist, &hints[slot]))
+            } else {
+                self.bvh.occluded(&shadow_ray, dist)
+            };
+            if blocked {
                 stats.shadow_blocked += 1;
                 if R::ENABLED {
                     rec.light(k, LightOutcome::Shadowed);
