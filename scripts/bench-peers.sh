@@ -31,6 +31,18 @@ if command -v povray >/dev/null; then
     echo "POV-Ray 3.7, 7 SPD scenes:        $pov s   (ratio POV-Ray / nffrt = $(awk -v a="$pov" -v b="$nffrt_spd" 'BEGIN {printf "%.1f", a/b}'))"
 fi
 
+echo "== scale: nffrt gen balls, sizes 4 (7 381 spheres) and 6 (597 871), 1 thread (median of $runs)"
+printf '%-8s %10s %10s %10s %12s %12s\n' size spheres parse_s build_s primary_mrays random_mrays
+for size in 4 5 6; do
+    "$nffrt" gen balls --size "$size" -o "$tmp/balls$size.nff"
+    st=$(for _ in $(seq "$runs"); do "$nffrt" render "$tmp/balls$size.nff" --width 64 --height 64 -q -o "$tmp/b.png" --stats-json "$tmp/b.json" --threads 1; python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['parse_s'], d['build_s'], d['primitives'])" "$tmp/b.json"; done)
+    parse=$(echo "$st" | cut -d' ' -f1 | median); build=$(echo "$st" | cut -d' ' -f2 | median); prims=$(echo "$st" | head -1 | cut -d' ' -f3)
+    b=$(for _ in $(seq "$runs"); do "$nffrt" bench "$tmp/balls$size.nff" --repeat 5 | tail -1; done)
+    pm=$(echo "$b" | tr ' ' '\n' | grep "^primary_mrays=" | cut -d= -f2 | median)
+    rm_=$(echo "$b" | tr ' ' '\n' | grep "^random_mrays=" | cut -d= -f2 | median)
+    printf '%-8s %10s %10.3f %10.3f %12.2f %12.2f\n' "$size" "$prims" "$parse" "$build" "$pm" "$rm_"
+done
+
 if [ -x "$py" ]; then
     echo "== traversal, single thread, same rays (Mrays/s, median of $runs)"
     printf '%-18s %-8s %10s %10s %8s %10s %10s\n' scene rays embree nffrt ratio embree-occl nffrt-occl
@@ -47,4 +59,20 @@ if [ -x "$py" ]; then
             printf '%-18s %-8s %10.2f %10.2f %8.2f %10.2f %10.2f\n' "$name" "$set" "$emb" "$ours" "$(awk -v a="$ours" -v b="$emb" 'BEGIN {print a/b}')" "$embo" "$ourso"
         done
     done
+    # Embree's own best on this machine: native C, no binding, 8-ray coherent packets
+    # (needs Debian's libembree-dev; skipped without it).
+    if gcc -O2 -o "$tmp/embree_native" "$shared/bench/embree_native.c" -lembree3 2>/dev/null; then
+        echo "== Embree native (C): single rays and coherent 8-ray packets, primary rays (Mrays/s, median of $runs)"
+        printf '%-18s %10s %10s %10s\n' scene single packet8 nffrt
+        for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
+            name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
+            "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
+            e=$(for _ in $(seq "$runs"); do "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
+            single=$(echo "$e" | tr ' ' '\n' | grep "^single_mrays=" | cut -d= -f2 | median)
+            packet=$(echo "$e" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
+            n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_primary.f32" --rays-only --repeat 10 | tail -1; done)
+            ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
+            printf '%-18s %10.2f %10.2f %10.2f\n' "$name" "$single" "$packet" "$ours"
+        done
+    fi
 fi
