@@ -2,6 +2,8 @@
 //! resource limits, and output files that are never partial and never clobbered,
 //! even when the render fails or is interrupted by SIGINT or SIGTERM.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -10,20 +12,11 @@ const TINY: &str = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 
                     l 0 0 10\nf 1 0 0 1 0 1 0 1\ns 0 0 0 1\n";
 
 fn nffrt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nffrt"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("nffrt runs")
+    common::nffrt(args, b"")
 }
 
-/// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_robust_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("cli_robust", name)
 }
 
 fn s(p: &Path) -> &str {

@@ -1,21 +1,16 @@
 //! `nffrt gen` as a user runs it: standard output, `-o FILE`, refused sizes and names.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn nffrt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nffrt"))
-        .args(args)
-        .output()
-        .expect("nffrt runs")
+    common::nffrt(args, b"")
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("gen_cli_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("gen_cli", name)
 }
 
 #[test]

@@ -13,11 +13,7 @@ const SHOWCASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/showcase.n
 const SMALL: [&str; 4] = ["--width", "40", "--height", "30"];
 
 fn scratch(name: &str) -> PathBuf {
-    let dir =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("user_cli_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch_dir("user_cli", name)
 }
 
 fn render_to(out: &Path, extra: &[&str]) -> std::process::Output {

@@ -22,6 +22,15 @@ pub fn nffrt(args: &[&str], stdin: &[u8]) -> Output {
     child.wait_with_output().expect("nffrt runs to completion")
 }
 
+/// A fresh, empty directory for one test: `CARGO_TARGET_TMPDIR/{test_file}_{name}_{pid}`.
+pub fn scratch_dir(test_file: &str, name: &str) -> PathBuf {
+    let dir =
+        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{test_file}_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Runs `nffrt info --json PATH` and returns the output.
 pub fn info_json(path: &Path) -> Output {
     nffrt(&["info", "--json", path.to_str().expect("UTF-8 test path")], b"")
