@@ -6,8 +6,12 @@ use crate::math::{Aabb, Vec3};
 
 /// Bins per axis for the SAH sweep.
 const BINS: usize = 16;
-/// Relative cost of one traversal step against one primitive test.
+/// Relative cost of one traversal step against one primitive test (or one test of a
+/// block of [`BLOCK`] packable primitives).
 const TRAVERSAL_COST: f32 = 1.0;
+/// Packable primitives (triangles) are tested this many at a time, so a leaf of them
+/// costs one test per started block of this size rather than one per primitive.
+pub const BLOCK: u32 = 4;
 /// Leaves never exceed this many primitives unless their centroids coincide.
 pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
@@ -28,17 +32,34 @@ struct Item {
     bounds: Aabb,
     centroid: Vec3,
     index: u32,
+    packable: bool,
 }
 
-/// Builds a BVH over `bounds` (one box per primitive).
-pub fn build(bounds: &[Aabb]) -> Built {
+/// SAH cost of intersecting a leaf of `n` primitives of which `unpackable` cannot
+/// share a block: a leaf of packable primitives alone is tested a block at a time.
+#[inline]
+pub fn leaf_cost(n: u32, unpackable: u32) -> f32 {
+    if unpackable == 0 {
+        n.div_ceil(BLOCK) as f32
+    } else {
+        n as f32
+    }
+}
+
+/// Builds a BVH over `bounds` (one box per primitive); `packable[i]` tells whether
+/// primitive `i` can be tested in a block of [`BLOCK`] with others of its kind, which
+/// the SAH then counts as one test per block.
+pub fn build(bounds: &[Aabb], packable: &[bool]) -> Built {
+    debug_assert_eq!(bounds.len(), packable.len());
     let mut items: Vec<Item> = bounds
         .iter()
+        .zip(packable)
         .enumerate()
-        .map(|(i, b)| Item {
+        .map(|(i, (b, &packable))| Item {
             bounds: *b,
             centroid: b.centroid(),
             index: i as u32,
+            packable,
         })
         .collect();
     let mut nodes = Vec::with_capacity((2 * items.len()).max(1));
@@ -114,6 +135,7 @@ fn median_split(items: &mut [Item], axis: usize) -> usize {
 struct Bin {
     bounds: Aabb,
     count: u32,
+    unpackable: u32,
 }
 
 /// Finds the cheapest binned SAH split over all three axes and partitions `items`
@@ -131,30 +153,37 @@ fn sah_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usiz
         let mut bins = [Bin {
             bounds: Aabb::EMPTY,
             count: 0,
+            unpackable: 0,
         }; BINS];
         for it in items.iter() {
             let b = bin_index(it.centroid[axis], lo, scale);
             bins[b].bounds = bins[b].bounds.union(it.bounds);
             bins[b].count += 1;
+            bins[b].unpackable += u32::from(!it.packable);
         }
-        // Sweep from the right to get the right-hand areas and counts.
+        // Sweep from the right to get the right-hand areas, counts and leaf costs.
         let mut right_area = [0.0f32; BINS];
         let mut right_count = [0u32; BINS];
-        let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
+        let mut right_cost = [0.0f32; BINS];
+        let (mut acc, mut cnt, mut unpackable) = (Aabb::EMPTY, 0, 0);
         for i in (1..BINS).rev() {
             acc = acc.union(bins[i].bounds);
             cnt += bins[i].count;
+            unpackable += bins[i].unpackable;
             right_area[i] = acc.surface_area();
             right_count[i] = cnt;
+            right_cost[i] = leaf_cost(cnt, unpackable);
         }
-        let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
+        let (mut acc, mut cnt, mut unpackable) = (Aabb::EMPTY, 0, 0);
         for i in 0..BINS - 1 {
             acc = acc.union(bins[i].bounds);
             cnt += bins[i].count;
+            unpackable += bins[i].unpackable;
             if cnt == 0 || right_count[i + 1] == 0 {
                 continue;
             }
-            let cost = acc.surface_area() * cnt as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+            let cost =
+                acc.surface_area() * leaf_cost(cnt, unpackable) + right_area[i + 1] * right_cost[i + 1];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, i + 1));
             }
@@ -162,10 +191,14 @@ fn sah_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usiz
     }
     let (cost, axis, split_bin) = best?;
     let area = bounds.surface_area();
-    // SAH: split cost = C_trav + (A_L N_L + A_R N_R) / A versus leaf cost N.
+    // SAH: split cost = C_trav + (A_L C_L + A_R C_R) / A versus the leaf's own cost,
+    // where C is a leaf cost (one per primitive, or per block of packable ones).
     let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if n <= MAX_LEAF && split_cost >= n as f32 {
-        return None;
+    if n <= MAX_LEAF {
+        let unpackable = items.iter().filter(|it| !it.packable).count() as u32;
+        if split_cost >= leaf_cost(n as u32, unpackable) {
+            return None;
+        }
     }
     let lo = centroids.min[axis];
     let scale = BINS as f32 / (centroids.max[axis] - lo);

@@ -122,7 +122,8 @@ pub struct BvhStats {
     /// Mean leaf size.
     pub mean_leaf: f64,
     /// SAH cost: expected node visits plus primitive tests for a random ray that hits
-    /// the root box (traversal and intersection weighted 1 each).
+    /// the root box (traversal and intersection weighted 1 each; a leaf of triangles
+    /// counts one test per block of four, as they are intersected).
     pub sah_cost: f64,
     /// Bounded primitives in the tree.
     pub primitives: usize,
@@ -149,7 +150,12 @@ impl Bvh {
                 None => unbounded.push(p),
             }
         }
-        let built = build::build(&bounds);
+        // Triangles are intersected four at a time (tri4 blocks), which the SAH knows.
+        let packable: Vec<bool> = bounded
+            .iter()
+            .map(|p: &Primitive| matches!(p.shape, Shape::Triangle(_)))
+            .collect();
+        let built = build::build(&bounds, &packable);
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
@@ -209,11 +215,8 @@ impl Bvh {
         let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|stack| {
             stack.clear();
-            stack.push((0, 0.0));
-            while let Some((index, t_entry)) = stack.pop() {
-                if t_entry >= t_best {
-                    continue;
-                }
+            let mut index = 0u32;
+            loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let (t, mut mask) = node.entries(&boxes, t_best, t_best);
@@ -251,13 +254,34 @@ impl Bvh {
                         }
                     }
                 }
-                // Push far to near so that the nearest child is popped first.
+                // Go straight on to the nearest child; push the others far to near so
+                // that the nearer ones are popped first.
                 let inner = &mut inner[..n_inner];
                 sort_descending(inner);
-                // Element by element: a slice copy of at most four entries would be a
-                // call to memmove.
-                for &entry in inner.iter() {
-                    stack.push(entry);
+                let nearest = match inner.split_last() {
+                    Some((&nearest, farther)) => {
+                        // Element by element: a slice copy of at most four entries
+                        // would be a call to memmove.
+                        for &entry in farther {
+                            stack.push(entry);
+                        }
+                        Some(nearest)
+                    }
+                    None => None,
+                };
+                // A leaf just tested may have moved `t_best` in front of a child.
+                match nearest.filter(|&(_, t)| t < t_best) {
+                    Some((next, _)) => index = next,
+                    None => loop {
+                        match stack.pop() {
+                            Some((next, t_entry)) if t_entry < t_best => {
+                                index = next;
+                                break;
+                            }
+                            Some(_) => {}
+                            None => return,
+                        }
+                    },
                 }
             }
         });
@@ -306,17 +330,22 @@ impl Bvh {
         let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|stack| {
             stack.clear();
-            stack.push((0, 0.0));
-            while let Some((index, _)) = stack.pop() {
+            let mut index = 0u32;
+            loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let (_, mut mask) = node.entries(&boxes, t_max, f32::INFINITY);
+                let mut next = None;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     let count = node.count[lane] as usize;
                     if count == 0 {
-                        stack.push((node.child[lane], 0.0));
+                        // Go straight on to the first child entered, stack the others.
+                        match next {
+                            None => next = Some(node.child[lane]),
+                            Some(_) => stack.push((node.child[lane], 0.0)),
+                        }
                         continue;
                     }
                     let first = node.child[lane] as usize;
@@ -337,8 +366,11 @@ impl Bvh {
                         return Some((first + k) as u32);
                     }
                 }
+                match next.or_else(|| stack.pop().map(|(node, _)| node)) {
+                    Some(n) => index = n,
+                    None => return None,
+                }
             }
-            None
         })
     }
 
@@ -427,7 +459,13 @@ impl Bvh {
                 s.leaves += 1;
                 s.min_leaf = s.min_leaf.min(n.count);
                 s.max_leaf = s.max_leaf.max(n.count);
-                s.sah_cost += rel * n.count as f64;
+                let first = n.first as usize;
+                let leaf = &self.primitives[first..first + n.count as usize];
+                let unpackable = leaf
+                    .iter()
+                    .filter(|p| !matches!(p.shape, Shape::Triangle(_)))
+                    .count();
+                s.sah_cost += rel * build::leaf_cost(n.count, unpackable as u32) as f64;
             } else {
                 s.sah_cost += rel;
             }

@@ -67,6 +67,31 @@ fn coincident_primitives_still_build_a_valid_shallow_tree() {
     assert!(st.max_leaf as usize <= super::build::MAX_LEAF);
 }
 
+/// Four unit cubes 10 apart along x. By hand: root area 2(31 + 31 + 1) = 126, each
+/// half (two cubes) 2(11 + 11 + 1) = 46. Four primitives tested one by one cost 4 as a
+/// leaf and 1 + (46·2 + 46·2)/126 ≈ 2.46 split in halves, so they are split; four
+/// packable ones cost one block (1) as a leaf and 1 + (46 + 46)/126 ≈ 1.73 split, so
+/// they stay in one leaf.
+#[test]
+fn the_sah_counts_packable_primitives_a_block_at_a_time() {
+    use crate::math::Aabb;
+    let cubes: Vec<Aabb> = (0..4)
+        .map(|i| {
+            let min = Vec3::new(10.0 * i as f32, 0.0, 0.0);
+            Aabb::new(min, min + Vec3::splat(1.0))
+        })
+        .collect();
+    let one_by_one = super::build::build(&cubes, &[false; 4]);
+    assert_eq!(one_by_one.nodes[0].count, 0, "split at the root");
+    assert_eq!(one_by_one.nodes.len(), 7, "four leaves of one");
+    let blocks = super::build::build(&cubes, &[true; 4]);
+    assert_eq!(blocks.nodes.len(), 1, "one leaf");
+    assert_eq!(blocks.nodes[0].count, 4);
+    assert_eq!(super::build::leaf_cost(4, 0), 1.0);
+    assert_eq!(super::build::leaf_cost(5, 0), 2.0);
+    assert_eq!(super::build::leaf_cost(4, 1), 4.0);
+}
+
 #[test]
 fn degenerate_flat_boxes_are_handled() {
     // Axis-aligned triangles have zero-thickness boxes.
@@ -135,4 +160,44 @@ proptest! {
             }
         }
     }
+}
+
+/// Thousands of primitives make trees several wide levels deep, so traversal goes
+/// through its stack (the proptest scenes above are mostly one or two levels).
+#[test]
+fn deep_trees_agree_with_brute_force() {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+    };
+    let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
+    let spheres: Vec<(Vec3, f32)> = (0..500).map(|_| (point(20.0), 0.2)).collect();
+    let tris: Vec<[Vec3; 3]> = (0..3000)
+        .map(|_| {
+            let a = point(20.0);
+            [a, a + point(0.8), a + point(0.8)]
+        })
+        .collect();
+    let bvh = bvh_of(&scene_with(&spheres, &tris));
+    assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+    let mut hits = 0;
+    for _ in 0..3000 {
+        let origin = point(25.0);
+        let r = Ray::new(origin, (point(15.0) - origin).normalize());
+        let fast = bvh.closest_hit(&r, f32::INFINITY);
+        let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
+        assert_eq!(fast.map(|h| h.0.t), slow.map(|h| h.0.t));
+        hits += usize::from(fast.is_some());
+        for t_max in [2.0, 10.0, f32::INFINITY] {
+            let any = bvh.closest_hit_linear(&r, t_max).is_some();
+            assert_eq!(bvh.occluded(&r, t_max), any);
+        }
+    }
+    assert!(
+        hits > 500,
+        "only {hits} of 3000 rays hit: the test would be too weak"
+    );
 }
