@@ -5,7 +5,7 @@ use std::cell::{Cell, RefCell};
 
 use super::node::BvhNode;
 use super::tri4::{Ray4, Tri4, LANES};
-use super::wide::{self, Node4, RayBoxes, WIDTH};
+use super::wide::{self, Node8, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::{Ray, Vec3};
 
@@ -58,7 +58,7 @@ const TRI4_LEAF: usize = 1 << 31;
 
 /// Repacks every wide leaf lane made only of triangles into [`Tri4`] blocks (marked
 /// with [`TRI4_LEAF`]); other leaves keep pointing at `primitives`.
-fn pack_triangle_leaves(wide: &mut [Node4], primitives: &[Primitive]) -> Vec<Tri4> {
+fn pack_triangle_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Vec<Tri4> {
     let mut blocks = Vec::new();
     let mut lane_triangles = Vec::with_capacity(LANES);
     for node in wide.iter_mut() {
@@ -94,9 +94,9 @@ fn pack_triangle_leaves(wide: &mut [Node4], primitives: &[Primitive]) -> Vec<Tri
 pub struct Bvh {
     /// The binary SAH tree (kept for statistics and validation).
     nodes: Vec<BvhNode>,
-    /// The same tree collapsed to 4-wide nodes, used by the queries. A leaf lane made
+    /// The same tree collapsed to 8-wide nodes, used by the queries. A leaf lane made
     /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]).
-    wide: Vec<Node4>,
+    wide: Vec<Node8>,
     /// The triangles of all-triangle leaves, four to a block, in leaf order.
     tri4: Vec<Tri4>,
     /// Bounded primitives in leaf order, then the unbounded ones.

@@ -12,7 +12,7 @@ mod wide;
 pub use bvh::counters;
 pub use bvh::{Bvh, BvhStats};
 pub use node::BvhNode;
-pub use wide::Node4;
+pub use wide::Node8;
 
 #[cfg(test)]
 mod tests;
