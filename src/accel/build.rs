@@ -205,8 +205,9 @@ impl Out<'_> {
                 k += (bins.count[axis][i] > 0) as usize;
             }
             let used = &used[..k];
-            let valid = !(cb.max[axis] - cb.min[axis] <= 0.0);
-            if valid {
+            // As a plain `<=`, so a NaN extent is binned (all into bin 0) like any other.
+            let flat = cb.max[axis] - cb.min[axis] <= 0.0;
+            if !flat {
                 if let Some((cost, split)) = sweep(bins, axis, used) {
                     if best.is_none_or(|(c, _, _)| cost < c) {
                         best = Some((cost, axis, split));
