@@ -193,6 +193,9 @@ impl Out<'_> {
     fn sah_split(&mut self, items: &mut [Item], s: &Span) -> Split {
         let n = items.len();
         let binner = Binner::new(&s.centroids);
+        if n == 2 {
+            return split_pair(items, s, &binner);
+        }
         let bins = &mut *self.bins;
         bins.fill(items, &binner);
         let cb = s.centroids.aabb();
@@ -205,9 +208,7 @@ impl Out<'_> {
                 k += (bins.count[axis][i] > 0) as usize;
             }
             let used = &used[..k];
-            // As a plain `<=`, so a NaN extent is binned (all into bin 0) like any other.
-            let flat = cb.max[axis] - cb.min[axis] <= 0.0;
-            if !flat {
+            if !flat(&cb, axis) {
                 if let Some((cost, split)) = sweep(bins, axis, used) {
                     if best.is_none_or(|(c, _, _)| cost < c) {
                         best = Some((cost, axis, split));
@@ -241,6 +242,36 @@ impl Out<'_> {
 enum Split {
     Plane(usize, (Box4, Box4), (Box4, Box4)),
     Leaf,
+}
+
+/// Do the centroids span nothing along `axis`? A plain `<=`, so a NaN extent counts
+/// as an axis to bin (all into bin 0, giving no plane).
+#[inline]
+fn flat(cb: &Aabb, axis: usize) -> bool {
+    cb.max[axis] - cb.min[axis] <= 0.0
+}
+
+/// [`Out::sah_split`] for two items, without the bins: every axis that bins them
+/// apart costs `A_0 + A_1`, so the first such axis wins; same result, same order.
+fn split_pair(items: &mut [Item], s: &Span, binner: &Binner) -> Split {
+    let cb = s.centroids.aabb();
+    let (b0, b1) = (binner.bins(items[0].centroid()), binner.bins(items[1].centroid()));
+    let apart = |a: usize| !flat(&cb, a) && b0[a] != b1[a];
+    let Some(axis) = (0..3).find(|&a| apart(a)) else {
+        return Split::Leaf;
+    };
+    let area = |it: &[Item]| Box4::of(it).0.aabb().surface_area();
+    let (lo, hi) = if b0[axis] < b1[axis] { (0, 1) } else { (1, 0) };
+    let cost = area(&items[lo..lo + 1]) + area(&items[hi..hi + 1]);
+    let area = s.bounds.aabb().surface_area();
+    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
+    if split_cost >= 2.0 {
+        return Split::Leaf;
+    }
+    if lo == 1 {
+        items.swap(0, 1);
+    }
+    Split::Plane(1, Box4::of(&items[..1]), Box4::of(&items[1..]))
 }
 
 /// The cheapest plane between two of the non-empty bins `used` of `axis`, as (cost,
