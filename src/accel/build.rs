@@ -1,11 +1,18 @@
 //! Binned SAH construction of the BVH (Wald 2007, "On fast construction of SAH-based
 //! bounding volume hierarchies"), producing the flat node array directly.
+//!
+//! Each node makes two passes over its items: one bins them on all three axes at
+//! once, one partitions them by the chosen plane while folding the bounds and
+//! centroid bounds of both children (which the children then start from). Subtrees
+//! over [`PARALLEL_ITEMS`] items are built on two threads by `rayon::join`; the right
+//! one goes into a vector of its own and is spliced in after the left one, so the
+//! nodes are numbered exactly as the sequential depth-first build numbers them and
+//! the result does not depend on the thread count.
 
+use super::binning::{Binner, Bins, Box4, Item, BINS};
 use super::node::BvhNode;
-use crate::math::{Aabb, Vec3};
+use crate::math::Aabb;
 
-/// Bins per axis for the SAH sweep.
-const BINS: usize = 16;
 /// Relative cost of one traversal step against one primitive test (or one test of a
 /// block of [`BLOCK`] packable primitives).
 const TRAVERSAL_COST: f32 = 1.0;
@@ -17,6 +24,8 @@ pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
 /// by about `MAX_SAH_DEPTH + log2(n)` and so keeps traversal stacks small.
 const MAX_SAH_DEPTH: u32 = 32;
+/// Subtrees over this many primitives are split between threads.
+pub const PARALLEL_ITEMS: usize = 4096;
 
 /// Output of the builder: nodes (root at 0) and the primitive order of the leaves.
 pub struct Built {
@@ -26,13 +35,6 @@ pub struct Built {
     pub order: Vec<u32>,
     /// Depth of the deepest leaf (root = 1).
     pub depth: u32,
-}
-
-struct Item {
-    bounds: Aabb,
-    centroid: Vec3,
-    index: u32,
-    packable: bool,
 }
 
 /// SAH cost of intersecting a leaf of `n` primitives of which `unpackable` cannot
@@ -50,175 +52,319 @@ pub fn leaf_cost(n: u32, unpackable: u32) -> f32 {
 /// primitive `i` can be tested in a block of [`BLOCK`] with others of its kind, which
 /// the SAH then counts as one test per block.
 pub fn build(bounds: &[Aabb], packable: &[bool]) -> Built {
-    debug_assert_eq!(bounds.len(), packable.len());
+    build_with(bounds, packable, PARALLEL_ITEMS)
+}
+
+/// [`build`], handing subtrees over `parallel_items` primitives to `rayon::join`
+/// (`usize::MAX`: all on the calling thread). The result is the same for any value.
+pub fn build_with(bounds: &[Aabb], packable: &[bool], parallel_items: usize) -> Built {
+    assert_eq!(bounds.len(), packable.len(), "one packable flag per box");
     let mut items: Vec<Item> = bounds
         .iter()
         .zip(packable)
         .enumerate()
-        .map(|(i, (b, &packable))| Item {
-            bounds: *b,
-            centroid: b.centroid(),
-            index: i as u32,
-            packable,
-        })
+        .map(|(i, (b, &packable))| Item::new(b, i as u32, packable))
         .collect();
     let mut nodes = Vec::with_capacity((2 * items.len()).max(1));
     nodes.push(BvhNode::default());
     let mut depth = 1;
     if !items.is_empty() {
-        subdivide(&mut items, 0, 0, 1, &mut nodes, &mut depth);
+        let (b, c) = Box4::of(&items);
+        let mut out = Out {
+            nodes: &mut nodes,
+            depth: &mut depth,
+            bins: &mut Bins::new(),
+            parallel_items: parallel_items.max(2 * MAX_LEAF),
+        };
+        out.subdivide(
+            &mut items,
+            Span {
+                offset: 0,
+                node: 0,
+                depth: 1,
+                bounds: b,
+                centroids: c,
+            },
+        );
     }
-    let order = items.iter().map(|it| it.index).collect();
+    let order = items.iter().map(Item::index).collect();
     Built { nodes, order, depth }
 }
 
-fn set_bounds(node: &mut BvhNode, b: Aabb) {
-    node.min = b.min.to_array();
-    node.max = b.max.to_array();
-}
-
-/// Fills `nodes[node]` for `items` (which start at primitive offset `offset`).
-fn subdivide(
-    items: &mut [Item],
+/// A node to fill: where its items start, its index, depth, bounds and centroid bounds.
+struct Span {
     offset: usize,
     node: usize,
     depth: u32,
-    nodes: &mut Vec<BvhNode>,
-    max_depth: &mut u32,
-) {
-    *max_depth = (*max_depth).max(depth);
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
-    let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
-    set_bounds(&mut nodes[node], bounds);
-    let n = items.len();
-    let make_leaf = |nodes: &mut Vec<BvhNode>| {
-        nodes[node].first = offset as u32;
-        nodes[node].count = n as u32;
-    };
-    if n == 1 {
-        return make_leaf(nodes);
+    bounds: Box4,
+    centroids: Box4,
+}
+
+/// Where one thread writes: the node vector, its deepest leaf, its scratch bins.
+struct Out<'a> {
+    nodes: &'a mut Vec<BvhNode>,
+    depth: &'a mut u32,
+    bins: &'a mut Bins,
+    parallel_items: usize,
+}
+
+impl Out<'_> {
+    /// Fills `nodes[s.node]` for `items`, and its subtree.
+    fn subdivide(&mut self, items: &mut [Item], s: Span) {
+        *self.depth = (*self.depth).max(s.depth);
+        let b = s.bounds.aabb();
+        let node = &mut self.nodes[s.node];
+        node.min = b.min.to_array();
+        node.max = b.max.to_array();
+        node.first = s.offset as u32;
+        node.count = items.len() as u32;
+        let n = items.len();
+        if n == 1 {
+            return;
+        }
+        let cb = s.centroids.aabb();
+        let extent = cb.extent();
+        let (mid, children) = if extent.max_elem() <= 0.0 {
+            // All centroids coincide: no plane separates them.
+            if n <= MAX_LEAF {
+                return;
+            }
+            (n / 2, None)
+        } else if s.depth >= MAX_SAH_DEPTH {
+            (median_split(items, extent.dominant_axis()), None)
+        } else {
+            match self.sah_split(items, &s) {
+                Split::Plane(mid, l, r) => (mid, Some((l, r))),
+                Split::Leaf if n <= MAX_LEAF => return,
+                Split::Leaf => (median_split(items, extent.dominant_axis()), None),
+            }
+        };
+        let (l, r) = items.split_at_mut(mid);
+        let ((lb, lc), (rb, rc)) = children.unwrap_or_else(|| (Box4::of(l), Box4::of(r)));
+        let left = self.nodes.len();
+        self.nodes.push(BvhNode::default());
+        self.nodes.push(BvhNode::default());
+        self.nodes[s.node].first = left as u32;
+        self.nodes[s.node].count = 0;
+        let depth = s.depth + 1;
+        let (lo, ro) = (s.offset, s.offset + mid);
+        let ls = Span {
+            offset: lo,
+            node: left,
+            depth,
+            bounds: lb,
+            centroids: lc,
+        };
+        if n <= self.parallel_items {
+            self.subdivide(l, ls);
+            let rs = Span {
+                offset: ro,
+                node: left + 1,
+                depth,
+                bounds: rb,
+                centroids: rc,
+            };
+            self.subdivide(r, rs);
+            return;
+        }
+        // The right subtree into its own vector (its root at 0), then spliced in.
+        let parallel_items = self.parallel_items;
+        let (_, (sub, sub_depth)) = rayon::join(
+            || self.subdivide(l, ls),
+            || {
+                let (mut nodes, mut deepest) = (Vec::with_capacity(2 * r.len()), 0);
+                nodes.push(BvhNode::default());
+                let mut out = Out {
+                    nodes: &mut nodes,
+                    depth: &mut deepest,
+                    bins: &mut Bins::new(),
+                    parallel_items,
+                };
+                out.subdivide(
+                    r,
+                    Span {
+                        offset: ro,
+                        node: 0,
+                        depth,
+                        bounds: rb,
+                        centroids: rc,
+                    },
+                );
+                (nodes, deepest)
+            },
+        );
+        *self.depth = (*self.depth).max(sub_depth);
+        // Local node k >= 1 lands at base + k - 1; local 0 is node `left + 1`.
+        let base = self.nodes.len() as u32;
+        let relocate = |mut nd: BvhNode| {
+            if nd.count == 0 {
+                nd.first = nd.first - 1 + base;
+            }
+            nd
+        };
+        self.nodes[left + 1] = relocate(sub[0]);
+        self.nodes.extend(sub[1..].iter().map(|&nd| relocate(nd)));
     }
-    let extent = centroids.extent();
-    let mid = if extent.max_elem() <= 0.0 {
-        // All centroids coincide: no plane separates them.
-        if n <= MAX_LEAF {
-            return make_leaf(nodes);
+
+    /// Finds the cheapest binned SAH split over all three axes and partitions `items`
+    /// by it, returning the children's bounds and centroid bounds too. `Leaf` when
+    /// keeping a leaf is cheaper or no split separates anything.
+    fn sah_split(&mut self, items: &mut [Item], s: &Span) -> Split {
+        let n = items.len();
+        let binner = Binner::new(&s.centroids);
+        if n == 2 {
+            return split_pair(items, s, &binner);
         }
-        n / 2
-    } else if depth >= MAX_SAH_DEPTH {
-        median_split(items, extent.dominant_axis())
-    } else {
-        match sah_split(items, &bounds, &centroids) {
-            Some(m) => m,
-            None if n <= MAX_LEAF => return make_leaf(nodes),
-            None => median_split(items, extent.dominant_axis()),
+        let bins = &mut *self.bins;
+        bins.fill(items, &binner);
+        let cb = s.centroids.aabb();
+        let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins left of the plane)
+        for axis in 0..3 {
+            let mut used = [0usize; BINS];
+            let mut k = 0;
+            for i in 0..BINS {
+                used[k] = i;
+                k += (bins.count[axis][i] > 0) as usize;
+            }
+            let used = &used[..k];
+            if !flat(&cb, axis) {
+                if let Some((cost, split)) = sweep(bins, axis, used) {
+                    if best.is_none_or(|(c, _, _)| cost < c) {
+                        best = Some((cost, axis, split));
+                    }
+                }
+            }
+            for &i in used {
+                bins.clear(axis, i);
+            }
         }
+        let Some((cost, axis, split_bin)) = best else {
+            return Split::Leaf;
+        };
+        let area = s.bounds.aabb().surface_area();
+        // SAH: split cost = C_trav + (A_L C_L + A_R C_R) / A versus the leaf's own
+        // cost, where C is a leaf cost (one per primitive, or per block of packable ones).
+        let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
+        if n <= MAX_LEAF && split_cost >= leaf_cost_of(items) {
+            return Split::Leaf;
+        }
+        let (mid, l, r) = partition(items, &binner, axis, split_bin);
+        if mid > 0 && mid < n {
+            Split::Plane(mid, l, r)
+        } else {
+            Split::Leaf
+        }
+    }
+}
+
+/// Outcome of [`Out::sah_split`]: the split index and both children's (bounds,
+/// centroid bounds), or no split.
+enum Split {
+    Plane(usize, (Box4, Box4), (Box4, Box4)),
+    Leaf,
+}
+
+/// Do the centroids span nothing along `axis`? A plain `<=`, so a NaN extent counts
+/// as an axis to bin (all into bin 0, giving no plane).
+#[inline]
+fn flat(cb: &Aabb, axis: usize) -> bool {
+    cb.max[axis] - cb.min[axis] <= 0.0
+}
+
+/// [`Out::sah_split`] for two items, without the bins: every axis that bins them
+/// apart costs `A_0 + A_1`, so the first such axis wins; same result, same order.
+fn split_pair(items: &mut [Item], s: &Span, binner: &Binner) -> Split {
+    let cb = s.centroids.aabb();
+    let (b0, b1) = (binner.bins(items[0].centroid()), binner.bins(items[1].centroid()));
+    let apart = |a: usize| !flat(&cb, a) && b0[a] != b1[a];
+    let Some(axis) = (0..3).find(|&a| apart(a)) else {
+        return Split::Leaf;
     };
-    let left = nodes.len();
-    nodes.push(BvhNode::default());
-    nodes.push(BvhNode::default());
-    nodes[node].first = left as u32;
-    nodes[node].count = 0;
-    let (l, r) = items.split_at_mut(mid);
-    subdivide(l, offset, left, depth + 1, nodes, max_depth);
-    subdivide(r, offset + mid, left + 1, depth + 1, nodes, max_depth);
+    let area = |it: &[Item]| Box4::of(it).0.aabb().surface_area();
+    let (lo, hi) = if b0[axis] < b1[axis] { (0, 1) } else { (1, 0) };
+    // A single primitive costs 1 as a leaf, packable or not.
+    let cost = area(&items[lo..lo + 1]) + area(&items[hi..hi + 1]);
+    let area = s.bounds.aabb().surface_area();
+    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
+    if split_cost >= leaf_cost_of(items) {
+        return Split::Leaf;
+    }
+    if lo == 1 {
+        items.swap(0, 1);
+    }
+    Split::Plane(1, Box4::of(&items[..1]), Box4::of(&items[1..]))
+}
+
+/// The cheapest plane between two of the non-empty bins `used` of `axis`, as (cost,
+/// number of bins left of the plane). Planes between empty bins are skipped: they
+/// cost exactly what the plane after the last non-empty bin before them costs.
+fn sweep(bins: &Bins, axis: usize, used: &[usize]) -> Option<(f32, usize)> {
+    let k = used.len();
+    if k < 2 {
+        return None;
+    }
+    // Sweep from the right to get the right-hand areas and leaf costs.
+    let mut right_area = [0.0f32; BINS];
+    let mut right_cost = [0.0f32; BINS];
+    let (mut acc, mut cnt, mut packable) = (Box4::EMPTY, 0, 0);
+    for j in (1..k).rev() {
+        acc.add_box(&bins.bounds[axis][used[j]]);
+        cnt += bins.count[axis][used[j]];
+        packable += bins.packable[axis][used[j]];
+        right_area[j] = acc.aabb().surface_area();
+        right_cost[j] = leaf_cost(cnt, cnt - packable);
+    }
+    let mut best: Option<(f32, usize)> = None;
+    let (mut acc, mut cnt, mut packable) = (Box4::EMPTY, 0, 0);
+    for j in 0..k - 1 {
+        acc.add_box(&bins.bounds[axis][used[j]]);
+        cnt += bins.count[axis][used[j]];
+        packable += bins.packable[axis][used[j]];
+        let cost = acc.aabb().surface_area() * leaf_cost(cnt, cnt - packable)
+            + right_area[j + 1] * right_cost[j + 1];
+        if best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, used[j] + 1));
+        }
+    }
+    best
+}
+
+/// In-place partition by `bin < split_bin` on `axis`, keeping the items that go left
+/// in their order; returns their number and the (bounds, centroid bounds) of both
+/// sides.
+fn partition(
+    items: &mut [Item],
+    binner: &Binner,
+    axis: usize,
+    split_bin: usize,
+) -> (usize, (Box4, Box4), (Box4, Box4)) {
+    let (mut lb, mut lc, mut rb, mut rc) = (Box4::EMPTY, Box4::EMPTY, Box4::EMPTY, Box4::EMPTY);
+    let mut i = 0;
+    for j in 0..items.len() {
+        let it = items[j];
+        let c = it.centroid();
+        if (binner.bins(c)[axis] as usize) < split_bin {
+            lb.add(&it);
+            lc.add_point(c);
+            items.swap(i, j);
+            i += 1;
+        } else {
+            rb.add(&it);
+            rc.add_point(c);
+        }
+    }
+    (i, (lb, lc), (rb, rc))
+}
+
+/// [`leaf_cost`] of `items` as one leaf.
+fn leaf_cost_of(items: &[Item]) -> f32 {
+    let packable: u32 = items.iter().map(Item::packable).sum();
+    leaf_cost(items.len() as u32, items.len() as u32 - packable)
 }
 
 /// Partitions at the object median along `axis`; returns the split index.
 fn median_split(items: &mut [Item], axis: usize) -> usize {
     let mid = items.len() / 2;
-    items.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    items.select_nth_unstable_by(mid, |a, b| a.centroid_on(axis).total_cmp(&b.centroid_on(axis)));
     mid
-}
-
-#[derive(Clone, Copy)]
-struct Bin {
-    bounds: Aabb,
-    count: u32,
-    unpackable: u32,
-}
-
-/// Finds the cheapest binned SAH split over all three axes and partitions `items`
-/// by it. `None` when keeping a leaf is cheaper (or no split separates anything).
-fn sah_split(items: &mut [Item], bounds: &Aabb, centroids: &Aabb) -> Option<usize> {
-    let n = items.len();
-    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins left of the plane)
-    for axis in 0..3 {
-        let lo = centroids.min[axis];
-        let ext = centroids.max[axis] - lo;
-        if ext <= 0.0 {
-            continue;
-        }
-        let scale = BINS as f32 / ext;
-        let mut bins = [Bin {
-            bounds: Aabb::EMPTY,
-            count: 0,
-            unpackable: 0,
-        }; BINS];
-        for it in items.iter() {
-            let b = bin_index(it.centroid[axis], lo, scale);
-            bins[b].bounds = bins[b].bounds.union(it.bounds);
-            bins[b].count += 1;
-            bins[b].unpackable += u32::from(!it.packable);
-        }
-        // Sweep from the right to get the right-hand areas, counts and leaf costs.
-        let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0u32; BINS];
-        let mut right_cost = [0.0f32; BINS];
-        let (mut acc, mut cnt, mut unpackable) = (Aabb::EMPTY, 0, 0);
-        for i in (1..BINS).rev() {
-            acc = acc.union(bins[i].bounds);
-            cnt += bins[i].count;
-            unpackable += bins[i].unpackable;
-            right_area[i] = acc.surface_area();
-            right_count[i] = cnt;
-            right_cost[i] = leaf_cost(cnt, unpackable);
-        }
-        let (mut acc, mut cnt, mut unpackable) = (Aabb::EMPTY, 0, 0);
-        for i in 0..BINS - 1 {
-            acc = acc.union(bins[i].bounds);
-            cnt += bins[i].count;
-            unpackable += bins[i].unpackable;
-            if cnt == 0 || right_count[i + 1] == 0 {
-                continue;
-            }
-            let cost =
-                acc.surface_area() * leaf_cost(cnt, unpackable) + right_area[i + 1] * right_cost[i + 1];
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, i + 1));
-            }
-        }
-    }
-    let (cost, axis, split_bin) = best?;
-    let area = bounds.surface_area();
-    // SAH: split cost = C_trav + (A_L C_L + A_R C_R) / A versus the leaf's own cost,
-    // where C is a leaf cost (one per primitive, or per block of packable ones).
-    let split_cost = TRAVERSAL_COST + if area > 0.0 { cost / area } else { 0.0 };
-    if n <= MAX_LEAF {
-        let unpackable = items.iter().filter(|it| !it.packable).count() as u32;
-        if split_cost >= leaf_cost(n as u32, unpackable) {
-            return None;
-        }
-    }
-    let lo = centroids.min[axis];
-    let scale = BINS as f32 / (centroids.max[axis] - lo);
-    let mid = partition(items, |it| bin_index(it.centroid[axis], lo, scale) < split_bin);
-    (mid > 0 && mid < n).then_some(mid)
-}
-
-#[inline]
-fn bin_index(c: f32, lo: f32, scale: f32) -> usize {
-    (((c - lo) * scale) as usize).min(BINS - 1)
-}
-
-/// In-place partition; returns the number of items for which `pred` holds.
-fn partition<T>(items: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
-    let mut i = 0;
-    for j in 0..items.len() {
-        if pred(&items[j]) {
-            items.swap(i, j);
-            i += 1;
-        }
-    }
-    i
 }

@@ -2,6 +2,7 @@
 //! the binned surface area heuristic and flattened into 32-byte nodes; unbounded
 //! primitives (planes) are tested beside it.
 
+mod binning;
 mod build;
 mod bvh;
 mod node;

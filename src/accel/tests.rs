@@ -201,3 +201,96 @@ fn deep_trees_agree_with_brute_force() {
         "only {hits} of 3000 rays hit: the test would be too weak"
     );
 }
+
+/// Boxes for the builder tests: `n` random ones from a fixed-seed generator, shaped
+/// by `kind`.
+fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::Aabb> {
+    let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let special = [
+        0.0,
+        -0.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        3e38,
+        -3e38,
+        1e-40,
+    ];
+    (0..n)
+        .map(|i| {
+            let mut v = || Vec3::new(next(), next(), next());
+            let (lo, size) = match kind {
+                // General position, mixed sizes.
+                0 => (v() * 100.0, v() * 2.0),
+                // All the same box.
+                1 => (Vec3::splat(1.0), Vec3::splat(0.5)),
+                // Points, on a coarse grid so many coincide.
+                2 => {
+                    let p = v() * 8.0;
+                    (Vec3::new(p.x.floor(), p.y.floor(), p.z.floor()), Vec3::ZERO)
+                }
+                // Huge coordinates, overflowing sums and extents.
+                3 => (v() * 3e38 * 2.0 - Vec3::splat(3e38), v() * 1e38),
+                // Special values (signed zeros, infinities, NaN) among ordinary boxes.
+                _ => {
+                    let s = |k: usize| special[(k * 7 + i) % special.len()];
+                    if i % 3 == 0 {
+                        (Vec3::new(s(0), s(1), s(2)), Vec3::new(s(3), 0.0, s(5)).abs())
+                    } else {
+                        (v() * 10.0, v())
+                    }
+                }
+            };
+            crate::math::Aabb::new(lo, lo + size)
+        })
+        .collect()
+}
+
+#[test]
+fn parallel_build_equals_sequential_build_exactly() {
+    use super::build::{build_with, MAX_LEAF};
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
+    let bits = |n: &super::BvhNode| (n.min.map(f32::to_bits), n.max.map(f32::to_bits), n.first, n.count);
+    for kind in 0..5 {
+        for (seed, n) in [(1, 1), (2, 7), (3, 100), (4, 5000), (5, 30_000)] {
+            let boxes = random_boxes(n, seed, kind);
+            // Packable and not, mixed (each box's flag from its index).
+            let packable: Vec<bool> = (0..n).map(|i| i % 5 != 0).collect();
+            let seq = build_with(&boxes, &packable, usize::MAX);
+            for threshold in [0, 64, 4096] {
+                let par = pool.install(|| build_with(&boxes, &packable, threshold));
+                let what = format!("kind {kind}, {n} boxes, threshold {threshold}");
+                assert_eq!(par.order, seq.order, "{what}");
+                assert_eq!(par.depth, seq.depth, "{what}");
+                assert_eq!(par.nodes.len(), seq.nodes.len(), "{what}");
+                assert!(
+                    par.nodes.iter().map(bits).eq(seq.nodes.iter().map(bits)),
+                    "{what}"
+                );
+            }
+            let mut sorted = seq.order.clone();
+            sorted.sort_unstable();
+            assert!(
+                sorted.iter().copied().eq(0..n as u32),
+                "kind {kind}: order is a permutation"
+            );
+            // Interior nodes point at later siblings; leaves cover the primitives once.
+            let mut covered = 0;
+            for (i, node) in seq.nodes.iter().enumerate() {
+                if node.count == 0 {
+                    assert!(node.first as usize > i && node.first as usize + 1 < seq.nodes.len());
+                } else {
+                    covered += node.count as usize;
+                    assert!(node.count as usize <= MAX_LEAF || kind != 0);
+                }
+            }
+            assert_eq!(covered, n);
+        }
+    }
+}

@@ -25,6 +25,7 @@ use super::{
 };
 use crate::math::Vec3;
 use crate::scene::Scene;
+use rayon::prelude::*;
 
 /// Converts every primitive of `scene` (see the module docs for the mapping).
 pub fn build_geometry(scene: &Scene) -> Geometry {
@@ -49,37 +50,28 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
         let shape = Shape::Cone(ConeShape::new(c.base, c.base_radius, c.apex, c.apex_radius));
         push(shape, c.material, c.line, SourceKind::Cone);
     }
-    for p in &scene.polygons {
-        let pts = scene.polygon_points(p);
-        let (m, line, kind) = (p.material, p.line, SourceKind::Polygon);
-        if pts.len() == 3 {
-            let tri = Triangle::new(pts[0], pts[1], pts[2], Triangle::FLAT);
-            push(Shape::Triangle(tri), m, line, kind);
-        } else if !is_convex(pts) {
-            let axis = super::polygon::plane_normal(pts).dominant_axis();
-            match super::triangulate::ear_clip(pts, axis) {
-                Some(tris) => {
-                    for [a, b, c] in tris {
-                        let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
-                        push(Shape::Triangle(tri), m, line, kind);
-                    }
-                }
-                None if pts.len() <= PolygonShape::MAX_VERTICES => {
-                    push(Shape::Polygon(PolygonShape::new(pts, data)), m, line, kind)
-                }
-                None => {
-                    for (a, b, c) in fan(pts) {
-                        let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
-                        push(Shape::Triangle(tri), m, line, kind);
-                    }
-                }
+    // Polygons are triangulated in parallel, chunk by chunk; the pieces are pushed in
+    // input order, so the result is the same as one pass would give.
+    let pieces: Vec<Vec<(u32, Option<Triangle>)>> = scene
+        .polygons
+        .par_chunks(POLYGON_CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut out = Vec::with_capacity(chunk.len() * 2);
+            for (k, p) in chunk.iter().enumerate() {
+                let i = (c * POLYGON_CHUNK + k) as u32;
+                polygon_pieces(scene.polygon_points(p), |t| out.push((i, t)));
             }
-        } else {
-            for (a, b, c) in fan(pts) {
-                let tri = Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT);
-                push(Shape::Triangle(tri), m, line, kind);
-            }
-        }
+            out
+        })
+        .collect();
+    for (i, tri) in pieces.into_iter().flatten() {
+        let p = &scene.polygons[i as usize];
+        let shape = match tri {
+            Some(tri) => Shape::Triangle(tri),
+            None => Shape::Polygon(PolygonShape::new(scene.polygon_points(p), data)),
+        };
+        push(shape, p.material, p.line, SourceKind::Polygon);
     }
     for p in &scene.patches {
         let (pts, normals) = scene.patch_points(p);
@@ -98,6 +90,29 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
         push(shape, b.material, b.line, SourceKind::Box);
     }
     g
+}
+
+/// Polygons per parallel triangulation task.
+const POLYGON_CHUNK: usize = 128;
+
+/// Emits the triangles covering polygon `pts` (see the module docs), or one `None`
+/// for a polygon that keeps the crossings test.
+fn polygon_pieces(pts: &[Vec3], mut emit: impl FnMut(Option<Triangle>)) {
+    let mut tri = |a: usize, b: usize, c: usize| {
+        emit(Some(Triangle::new(pts[a], pts[b], pts[c], Triangle::FLAT)));
+    };
+    if pts.len() == 3 {
+        tri(0, 1, 2);
+    } else if !is_convex(pts) {
+        let axis = super::polygon::plane_normal(pts).dominant_axis();
+        match super::triangulate::ear_clip(pts, axis) {
+            Some(tris) => tris.into_iter().for_each(|[a, b, c]| tri(a, b, c)),
+            None if pts.len() <= PolygonShape::MAX_VERTICES => emit(None),
+            None => fan(pts).for_each(|(a, b, c)| tri(a, b, c)),
+        }
+    } else {
+        fan(pts).for_each(|(a, b, c)| tri(a, b, c));
+    }
 }
 
 /// Appends three vertex normals and returns the index of the first, or

@@ -113,21 +113,61 @@ fn is_ear(xy: &[[f64; 2]], ring: &[usize], i: usize, orientation: f64) -> bool {
 }
 
 /// Do any two non-adjacent edges of the ring touch or cross?
+///
+/// Edges whose x ranges are disjoint are not tested when the coordinates' exponents
+/// lie close enough together that every difference of two of them is exact in
+/// `f64`: then each computed cross product has the true sign or is zero, so a
+/// reported crossing or touch is a real one, and real ones need overlapping ranges.
 fn self_intersects(xy: &[[f64; 2]], ring: &[usize]) -> bool {
     let n = ring.len();
     let edge = |i: usize| (xy[ring[i]], xy[ring[(i + 1) % n]]);
-    for i in 0..n {
-        for j in i + 2..n {
-            if i == 0 && j == n - 1 {
-                continue; // adjacent through the closing edge
+    let apart = |i: usize, j: usize| i.abs_diff(j) >= 2 && i.abs_diff(j) != n - 1;
+    if !differences_exact(xy, ring) {
+        return (0..n).any(|i| (i + 2..n).any(|j| apart(i, j) && touch(edge(i), edge(j))));
+    }
+    // Sweep the edges by their x ranges (sort by left end, test while they overlap).
+    let mut by_x: Vec<(f64, f64, usize)> = (0..n)
+        .map(|i| {
+            let (a, b) = edge(i);
+            (a[0].min(b[0]), a[0].max(b[0]), i)
+        })
+        .collect();
+    by_x.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    for (k, &(_, hi, i)) in by_x.iter().enumerate() {
+        for &(lo, _, j) in &by_x[k + 1..] {
+            if lo > hi {
+                break;
             }
-            let ((a, b), (c, d)) = (edge(i), edge(j));
-            if segments_touch(a, b, c, d) {
+            if apart(i, j) && touch(edge(i), edge(j)) {
                 return true;
             }
         }
     }
     false
+}
+
+/// Is `a - b` exact in `f64` for any two coordinates on the same axis? True when the
+/// non-zero ones (all finite) span at most 2^28 in binary exponent: an `f32`
+/// difference then needs at most 53 significant bits.
+fn differences_exact(xy: &[[f64; 2]], ring: &[usize]) -> bool {
+    (0..2).all(|axis| {
+        let (mut lo, mut hi) = (i32::MAX, i32::MIN);
+        for &i in ring {
+            let v = xy[i][axis];
+            if !v.is_finite() {
+                return false;
+            }
+            if v != 0.0 {
+                let e = ((v.to_bits() >> 52) & 0x7ff) as i32;
+                (lo, hi) = (lo.min(e), hi.max(e));
+            }
+        }
+        hi <= lo.saturating_add(28)
+    })
+}
+
+fn touch((a, b): ([f64; 2], [f64; 2]), (c, d): ([f64; 2], [f64; 2])) -> bool {
+    segments_touch(a, b, c, d)
 }
 
 fn segments_touch(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
@@ -215,5 +255,50 @@ mod tests {
             })
             .collect();
         assert!(ear_clip(&pentagram, 2).is_none());
+    }
+
+    /// Every pair of non-adjacent edges, as the sweep's reference.
+    fn all_pairs(xy: &[[f64; 2]], ring: &[usize]) -> bool {
+        let n = ring.len();
+        let edge = |i: usize| (xy[ring[i]], xy[ring[(i + 1) % n]]);
+        (0..n).any(|i| (i + 2..n).any(|j| !(i == 0 && j == n - 1) && touch(edge(i), edge(j))))
+    }
+
+    #[test]
+    fn edge_sweep_agrees_with_all_pairs() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut found = [0; 2];
+        for case in 0..2000 {
+            let n = 3 + case % 40;
+            // Star-shaped rings with jittered radii (simple) or shuffled angles (often
+            // crossing), on a coarse grid now and then so edges touch and overlap.
+            let xy: Vec<[f64; 2]> = (0..n)
+                .map(|k| {
+                    let turn = if case % 3 == 0 {
+                        next()
+                    } else {
+                        k as f32 / n as f32
+                    };
+                    let a = std::f32::consts::TAU * turn;
+                    let r = 1.0 + next();
+                    let (mut x, mut y) = (r * a.cos(), r * a.sin());
+                    if case % 5 == 0 {
+                        (x, y) = ((x * 4.0).round(), (y * 4.0).round());
+                    }
+                    [x as f64, y as f64]
+                })
+                .collect();
+            let ring: Vec<usize> = (0..n).collect();
+            let want = all_pairs(&xy, &ring);
+            assert_eq!(self_intersects(&xy, &ring), want, "case {case}");
+            found[want as usize] += 1;
+        }
+        assert!(found[0] > 100 && found[1] > 100, "{found:?}");
     }
 }

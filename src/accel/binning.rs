@@ -1,0 +1,207 @@
+//! The builder's working types: 32-byte primitive records, four-lane boxes and the
+//! per-axis SAH bins, all in `f32x4` so each update is one `minps`/`maxps` pair.
+//!
+//! Every min/max here is `fast_min`/`fast_max` (`a < b ? a : b`), exactly the scalar
+//! [`Aabb::union`]: lane by lane the results are bit-identical to folding `Aabb`s.
+//! Lane 3 is scratch (an item keeps its index there, and whether it is packable) and
+//! never read as a coordinate.
+
+use wide::{f32x4, i32x4};
+
+use crate::math::{Aabb, Vec3};
+
+/// Bins per axis for the SAH sweep.
+pub const BINS: usize = 16;
+
+/// Clears lane 3, which holds an item's index bits (a denormal as a float).
+const XYZ: f32x4 = f32x4::new([
+    f32::from_bits(u32::MAX),
+    f32::from_bits(u32::MAX),
+    f32::from_bits(u32::MAX),
+    0.0,
+]);
+
+/// One primitive to place: its box, with its input index in lane 3 of `min` and 1 in
+/// lane 3 of `max` if it is packable (tested four at a time; see `build`), else 0.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+pub struct Item {
+    min: f32x4,
+    max: f32x4,
+}
+
+const _: () = assert!(std::mem::size_of::<Item>() == 32);
+
+/// Lanes of a box coordinate made safe for the builder: `-0.0` becomes `+0.0` (so
+/// min/max never depend on the order the boxes are met in), and NaN becomes the
+/// infinity on its side (a primitive with an undefined bound is kept everywhere).
+#[inline]
+fn clean(v: Vec3, nan: f32) -> [f32; 3] {
+    v.to_array().map(|x| if x.is_nan() { nan } else { x + 0.0 })
+}
+
+impl Item {
+    /// The record of primitive `index` with box `b`.
+    #[inline]
+    pub fn new(b: &Aabb, index: u32, packable: bool) -> Item {
+        let [x0, y0, z0] = clean(b.min, f32::NEG_INFINITY);
+        let [x1, y1, z1] = clean(b.max, f32::INFINITY);
+        Item {
+            min: f32x4::new([x0, y0, z0, f32::from_bits(index)]),
+            max: f32x4::new([x1, y1, z1, f32::from_bits(u32::from(packable))]),
+        }
+    }
+
+    /// The primitive's input index.
+    #[inline]
+    pub fn index(&self) -> u32 {
+        self.min.to_array()[3].to_bits()
+    }
+
+    /// 1 if the primitive is packable, else 0.
+    #[inline]
+    pub fn packable(&self) -> u32 {
+        self.max.to_array()[3].to_bits()
+    }
+
+    /// The box's centre, `(min + max) * 0.5` as [`Aabb::centroid`] computes it.
+    #[inline(always)]
+    pub fn centroid(&self) -> f32x4 {
+        ((self.min + self.max) & XYZ) * f32x4::splat(0.5)
+    }
+
+    /// Centroid coordinate on `axis`.
+    #[inline]
+    pub fn centroid_on(&self, axis: usize) -> f32 {
+        self.centroid().to_array()[axis]
+    }
+}
+
+/// An axis-aligned box in two `f32x4` (lane 3 unused).
+#[derive(Clone, Copy, Debug)]
+pub struct Box4 {
+    /// Lower corner.
+    pub min: f32x4,
+    /// Upper corner.
+    pub max: f32x4,
+}
+
+impl Box4 {
+    /// The empty box (`+inf .. -inf`), identity of [`Box4::add`].
+    pub const EMPTY: Box4 = Box4 {
+        min: f32x4::new([f32::INFINITY; 4]),
+        max: f32x4::new([f32::NEG_INFINITY; 4]),
+    };
+
+    /// Grows the box over an item's box.
+    #[inline(always)]
+    pub fn add(&mut self, it: &Item) {
+        self.min = self.min.fast_min(it.min);
+        self.max = self.max.fast_max(it.max);
+    }
+
+    /// Grows the box over a point.
+    #[inline(always)]
+    pub fn add_point(&mut self, p: f32x4) {
+        self.min = self.min.fast_min(p);
+        self.max = self.max.fast_max(p);
+    }
+
+    /// Grows the box over another box.
+    #[inline(always)]
+    pub fn add_box(&mut self, b: &Box4) {
+        self.min = self.min.fast_min(b.min);
+        self.max = self.max.fast_max(b.max);
+    }
+
+    /// As an [`Aabb`].
+    #[inline]
+    pub fn aabb(&self) -> Aabb {
+        let (a, b) = (self.min.to_array(), self.max.to_array());
+        Aabb::new(Vec3::new(a[0], a[1], a[2]), Vec3::new(b[0], b[1], b[2]))
+    }
+
+    /// Bounds and centroid bounds of `items`, folded in order.
+    pub fn of(items: &[Item]) -> (Box4, Box4) {
+        let (mut b, mut c) = (Box4::EMPTY, Box4::EMPTY);
+        for it in items {
+            b.add(it);
+            c.add_point(it.centroid());
+        }
+        (b, c)
+    }
+}
+
+/// Maps centroids to bin indices along all three axes at once, with the arithmetic of
+/// the scalar `((c - lo) * (BINS / extent)) as usize`, clamped to the last bin.
+#[derive(Clone, Copy)]
+pub struct Binner {
+    lo: f32x4,
+    scale: f32x4,
+}
+
+impl Binner {
+    /// The binning of centroid bounds `cb`.
+    pub fn new(cb: &Box4) -> Binner {
+        let (lo, hi) = (cb.min.to_array(), cb.max.to_array());
+        let scale: [f32; 4] = std::array::from_fn(|a| BINS as f32 / (hi[a] - lo[a]));
+        Binner {
+            lo: cb.min,
+            scale: f32x4::new(scale),
+        }
+    }
+
+    /// Bin indices of centroid `c` on x, y, z (lane 3 meaningless). NaN maps to bin 0
+    /// and anything past the last bin to it, as the saturating `as usize` does.
+    #[inline(always)]
+    pub fn bins(&self, c: f32x4) -> [i32; 4] {
+        let f = ((c - self.lo) * self.scale).fast_max(f32x4::ZERO);
+        let f = f.fast_min(f32x4::splat((BINS - 1) as f32));
+        let i: i32x4 = f.fast_trunc_int();
+        i.to_array()
+    }
+}
+
+/// Per-axis bins, kept empty between uses so a node pays only for the bins it fills.
+pub struct Bins {
+    /// `bounds[axis][bin]`.
+    pub bounds: [[Box4; BINS]; 3],
+    /// `count[axis][bin]`.
+    pub count: [[u32; BINS]; 3],
+    /// `packable[axis][bin]`: how many of the bin's items are packable.
+    pub packable: [[u32; BINS]; 3],
+}
+
+impl Bins {
+    /// All bins empty.
+    pub fn new() -> Box<Bins> {
+        Box::new(Bins {
+            bounds: [[Box4::EMPTY; BINS]; 3],
+            count: [[0; BINS]; 3],
+            packable: [[0; BINS]; 3],
+        })
+    }
+
+    /// Bins every item on all three axes in one pass.
+    #[inline]
+    pub fn fill(&mut self, items: &[Item], binner: &Binner) {
+        for it in items {
+            let b = binner.bins(it.centroid());
+            let packable = it.packable();
+            for (axis, &bin) in b[..3].iter().enumerate() {
+                let bin = bin as usize & (BINS - 1);
+                self.bounds[axis][bin].add(it);
+                self.count[axis][bin] += 1;
+                self.packable[axis][bin] += packable;
+            }
+        }
+    }
+
+    /// Empties bin `bin` of `axis` again.
+    #[inline]
+    pub fn clear(&mut self, axis: usize, bin: usize) {
+        self.bounds[axis][bin] = Box4::EMPTY;
+        self.count[axis][bin] = 0;
+        self.packable[axis][bin] = 0;
+    }
+}
