@@ -100,6 +100,19 @@ impl ConeShape {
         let d = ray.dir;
         let w = self.axis;
         let s = self.slope;
+        // Quick rejection, without a division: a ray whose line passes farther from the
+        // axis line than the larger radius misses. That distance is |g| / |d × w| with
+        // g = (base − o)·(d × w); the margin (1e-4 of the coordinates involved) is far
+        // above the rounding of these products, so no ray the full test below would
+        // hit is rejected. Rays parallel to the axis (d × w = 0) always pass.
+        let to_base = self.base - ray.origin;
+        let n = d.cross(w);
+        let g = to_base.dot(n);
+        let reach =
+            self.base_radius.max(self.apex_radius()) + 1e-4 * (to_base.abs().max_elem() + self.length.abs());
+        if g * g > reach * reach * n.length_squared() {
+            return None;
+        }
         // Shift the origin to the ray's point closest to the cone's middle; t = t_c + τ.
         let mid = self.base + w * (0.5 * self.length);
         let t_c = (mid - ray.origin).dot(d) / d.length_squared();
@@ -187,6 +200,27 @@ mod tests {
 
     fn x_ray(y: f32, z: f32) -> Ray {
         Ray::new(Vec3::new(-5.0, y, z), Vec3::new(1.0, 0.0, 0.0))
+    }
+
+    /// Rays crossing a diagonal cylinder at right angles, just inside and just outside
+    /// its radius (the quick rejection must keep the first, the full test drop the
+    /// second). Hand computation: a ray at distance e < r from the axis, perpendicular
+    /// to it, enters at t = 5 − √(r² − e²).
+    #[test]
+    fn grazing_rays_past_a_diagonal_cylinder() {
+        let r = 0.07;
+        let c = ConeShape::new(Vec3::ZERO, r, Vec3::new(1.0, 1.0, 0.0), r);
+        let side = Vec3::new(1.0, -1.0, 0.0).normalize();
+        for e in [0.0, 0.5 * r, 0.99 * r, 0.999 * r] {
+            let ray = Ray::new(Vec3::new(0.5, 0.5, -5.0) + side * e, Vec3::new(0.0, 0.0, 1.0));
+            let hit = c.intersect(&ray, INF).expect("inside the radius");
+            let expected = 5.0 - (r * r - e * e).sqrt();
+            assert!((hit.t - expected).abs() < 1e-4, "e {e}: {} vs {expected}", hit.t);
+        }
+        for e in [1.001 * r, 1.01 * r, 2.0 * r, 100.0 * r] {
+            let ray = Ray::new(Vec3::new(0.5, 0.5, -5.0) + side * e, Vec3::new(0.0, 0.0, 1.0));
+            assert!(c.intersect(&ray, INF).is_none(), "e {e}");
+        }
     }
 
     #[test]
