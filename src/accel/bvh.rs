@@ -3,9 +3,11 @@
 use super::build;
 use std::cell::{Cell, RefCell};
 
+#[cfg(target_arch = "x86_64")]
+use super::avx::Avx;
 use super::node::BvhNode;
 use super::tri4::{Ray4, Tri4, LANES};
-use super::wide::{self, Node8, RayBoxes, WIDTH};
+use super::wide::{self, Node8, Portable, RayBoxes, SlabTest, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::{Ray, Vec3};
 
@@ -104,6 +106,9 @@ pub struct Bvh {
     bounded: usize,
     data: GeometryData,
     depth: u32,
+    /// The AVX kernels, when the CPU has them (detected once, at build time).
+    #[cfg(target_arch = "x86_64")]
+    avx: Option<Avx>,
 }
 
 /// Shape statistics of a built BVH (for `info --bvh` and benchmarks).
@@ -173,6 +178,8 @@ impl Bvh {
             bounded: n_bounded,
             data,
             depth: built.depth,
+            #[cfg(target_arch = "x86_64")]
+            avx: Avx::detect(),
         }
     }
 
@@ -200,6 +207,22 @@ impl Bvh {
     /// The nearest hit with `0 < t < t_max`, and the index of the primitive hit.
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = self.avx {
+            return avx.closest_hit(self, ray, t_max);
+        }
+        self.closest_hit_with(Portable, ray, t_max)
+    }
+
+    /// [`Bvh::closest_hit`] with the slab test `slabs` (inlined into each caller, so
+    /// that an AVX caller compiles all of it for AVX).
+    #[inline(always)]
+    pub(super) fn closest_hit_with<S: SlabTest>(
+        &self,
+        slabs: S,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<(Hit, u32)> {
         let mut best: Option<(Hit, u32)> = None;
         let mut t_best = t_max;
         for (i, p) in self.primitives[self.bounded..].iter().enumerate() {
@@ -219,7 +242,7 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let (t, mut mask) = node.entries(&boxes, t_best, t_best);
+                let (t, mut mask) = slabs.entries(node, &boxes, t_best, t_best);
                 let mut inner = [(0u32, 0.0f32); WIDTH];
                 let mut n_inner = 0;
                 while mask != 0 {
@@ -316,6 +339,16 @@ impl Bvh {
 
     /// Some primitive lying on the ray with `0 < t < t_max` (the first one found).
     fn occluder(&self, ray: &Ray, t_max: f32) -> Option<u32> {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = self.avx {
+            return avx.occluder(self, ray, t_max);
+        }
+        self.occluder_with(Portable, ray, t_max)
+    }
+
+    /// [`Bvh::occluder`] with the slab test `slabs` (see [`Bvh::closest_hit_with`]).
+    #[inline(always)]
+    pub(super) fn occluder_with<S: SlabTest>(&self, slabs: S, ray: &Ray, t_max: f32) -> Option<u32> {
         let unbounded = &self.primitives[self.bounded..];
         if let Some(i) = unbounded
             .iter()
@@ -334,7 +367,7 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let (_, mut mask) = node.entries(&boxes, t_max, f32::INFINITY);
+                let (_, mut mask) = slabs.entries(node, &boxes, t_max, f32::INFINITY);
                 let mut next = None;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;

@@ -2,6 +2,8 @@
 //! the binned surface area heuristic and flattened into 32-byte nodes; unbounded
 //! primitives (planes) are tested beside it.
 
+#[cfg(target_arch = "x86_64")]
+mod avx;
 mod binning;
 mod build;
 mod bvh;

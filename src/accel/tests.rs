@@ -190,10 +190,16 @@ fn deep_trees_agree_with_brute_force() {
         let fast = bvh.closest_hit(&r, f32::INFINITY);
         let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
         assert_eq!(fast.map(|h| h.0.t), slow.map(|h| h.0.t));
+        // The portable kernels (what `closest_hit` runs on a CPU without AVX2) give
+        // the very same answers as the ones this CPU may have chosen.
+        let portable = bvh.closest_hit_with(super::wide::Portable, &r, f32::INFINITY);
+        assert_eq!(portable, fast);
         hits += usize::from(fast.is_some());
         for t_max in [2.0, 10.0, f32::INFINITY] {
             let any = bvh.closest_hit_linear(&r, t_max).is_some();
             assert_eq!(bvh.occluded(&r, t_max), any);
+            let occluder = bvh.occluder_with(super::wide::Portable, &r, t_max);
+            assert_eq!(occluder.is_some(), any);
         }
     }
     assert!(

@@ -46,9 +46,8 @@ const EMPTY: Node8 = Node8 {
 /// A ray prepared for the wide slab test.
 #[derive(Clone, Copy)]
 pub struct RayBoxes {
-    origin: [f32; 3],
-    inv: [f32; 3],
-    negative: [bool; 3],
+    pub(super) origin: [f32; 3],
+    pub(super) inv: [f32; 3],
 }
 
 impl RayBoxes {
@@ -59,7 +58,6 @@ impl RayBoxes {
         RayBoxes {
             origin: ray.origin.to_array(),
             inv,
-            negative: [inv[0] < 0.0, inv[1] < 0.0, inv[2] < 0.0],
         }
     }
 }
@@ -76,7 +74,9 @@ impl Node8 {
             // The near plane is the min plane for a positive direction, else the max.
             // `fast_min`/`fast_max` skip NaN handling: `Ray::inv_dir` is finite, and
             // the boxes are finite or +infinity (empty lanes), so no NaN can arise.
-            let (lo, hi) = if r.negative[axis] {
+            // (A sign test of `inv` here, not a stored flag: flags stored as bytes and
+            // reloaded together stall store forwarding at the start of every query.)
+            let (lo, hi) = if r.inv[axis] < 0.0 {
                 (&self.max[axis], &self.min[axis])
             } else {
                 (&self.min[axis], &self.max[axis])
@@ -86,6 +86,25 @@ impl Node8 {
         }
         let hit = near.simd_le(far) & near.simd_lt(f32x8::splat(t_limit));
         (near.to_array(), hit.to_bitmask())
+    }
+}
+
+/// A slab test of one ray against the eight boxes of a node: [`Portable`] on any
+/// CPU, or the AVX one (`accel::avx`) with the very same arithmetic. The traversal
+/// kernels are generic over it so that each instruction set gets its own copy.
+pub trait SlabTest: Copy {
+    /// As [`Node8::entries`].
+    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
+}
+
+/// [`Node8::entries`] as the `wide` crate compiles it for the build target.
+#[derive(Clone, Copy, Debug)]
+pub struct Portable;
+
+impl SlabTest for Portable {
+    #[inline(always)]
+    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+        node.entries(r, t_max, t_limit)
     }
 }
 
