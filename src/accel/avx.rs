@@ -53,6 +53,13 @@ impl Avx {
         unsafe { closest_hit_avx(self, bvh, ray, t_max) }
     }
 
+    /// [`Bvh::closest_hit_packet`], compiled for AVX2.
+    #[inline]
+    pub fn closest_hit_packet(self, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+        // SAFETY: as in `closest_hit`.
+        unsafe { closest_hit_packet_avx(self, bvh, rays, t_max, out) }
+    }
+
     /// `Bvh::occluder`, compiled for AVX2.
     #[inline]
     pub fn occluder(self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
@@ -64,6 +71,11 @@ impl Avx {
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn closest_hit_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
     bvh.closest_hit_with(avx, ray, t_max)
+}
+
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
+fn closest_hit_packet_avx(avx: Avx, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+    bvh.closest_hit_packet_with(avx, rays, t_max, out)
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
@@ -80,8 +92,9 @@ impl SlabTest for Avx {
 }
 
 /// [`Node8::entries`] in AVX registers: the same operations on the same operands in
-/// the same order (`max(near, t)`, `min(far, t)`: with equal operands, including
-/// `-0.0` against `0.0`, both return the second one, as the SSE version does).
+/// the same order (`max(t, near)`, `min(t, far)`: with equal operands, including
+/// `-0.0` against `0.0`, or a NaN `t`, both return the second one, as the SSE
+/// version does).
 #[target_feature(enable = "avx")]
 fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
     let mut near = _mm256_setzero_ps();
@@ -96,8 +109,8 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
         let inv = _mm256_set1_ps(r.inv[axis]);
         // SAFETY: `lo` and `hi` are arrays of eight f32, the width of one load.
         let (lo, hi) = unsafe { (_mm256_loadu_ps(lo.as_ptr()), _mm256_loadu_ps(hi.as_ptr())) };
-        near = _mm256_max_ps(near, _mm256_mul_ps(_mm256_sub_ps(lo, origin), inv));
-        far = _mm256_min_ps(far, _mm256_mul_ps(_mm256_sub_ps(hi, origin), inv));
+        near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(lo, origin), inv), near);
+        far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(hi, origin), inv), far);
     }
     let hit = _mm256_and_ps(
         _mm256_cmp_ps::<_CMP_LE_OQ>(near, far),

@@ -5,14 +5,12 @@ use std::cell::{Cell, RefCell};
 
 #[cfg(target_arch = "x86_64")]
 use super::avx::Avx;
+use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::tri4::{Ray4, Tri4, LANES};
 use super::wide::{self, Node8, Portable, RayBoxes, SlabTest, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
-use crate::math::{Ray, Vec3};
-
-/// Depth limit of the binary tree (the builder stays well below it).
-const MAX_DEPTH: usize = 64;
+use crate::math::Ray;
 
 thread_local! {
     /// Each thread's traversal stack of (wide node, entry distance), reused across
@@ -44,7 +42,7 @@ macro_rules! count {
 
 /// Insertion sort by decreasing distance (at most `WIDTH` entries).
 #[inline(always)]
-fn sort_descending(v: &mut [(u32, f32)]) {
+pub(super) fn sort_descending(v: &mut [(u32, f32)]) {
     for i in 1..v.len() {
         let mut j = i;
         while j > 0 && v[j - 1].1 < v[j].1 {
@@ -56,7 +54,7 @@ fn sort_descending(v: &mut [(u32, f32)]) {
 
 /// Marks a wide leaf lane whose primitives are all triangles: its `child` is the first
 /// of `count & !TRI4_LEAF` [`Tri4`] blocks instead of the first primitive.
-const TRI4_LEAF: usize = 1 << 31;
+pub(super) const TRI4_LEAF: usize = 1 << 31;
 
 /// Repacks every wide leaf lane made only of triangles into [`Tri4`] blocks (marked
 /// with [`TRI4_LEAF`]); other leaves keep pointing at `primitives`.
@@ -95,45 +93,20 @@ fn pack_triangle_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Vec<Tri
 #[derive(Clone, Debug)]
 pub struct Bvh {
     /// The binary SAH tree (kept for statistics and validation).
-    nodes: Vec<BvhNode>,
+    pub(super) nodes: Vec<BvhNode>,
     /// The same tree collapsed to 8-wide nodes, used by the queries. A leaf lane made
     /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]).
-    wide: Vec<Node8>,
+    pub(super) wide: Vec<Node8>,
     /// The triangles of all-triangle leaves, four to a block, in leaf order.
-    tri4: Vec<Tri4>,
+    pub(super) tri4: Vec<Tri4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
-    primitives: Vec<Primitive>,
-    bounded: usize,
-    data: GeometryData,
-    depth: u32,
+    pub(super) primitives: Vec<Primitive>,
+    pub(super) bounded: usize,
+    pub(super) data: GeometryData,
+    pub(super) depth: u32,
     /// The AVX kernels, when the CPU has them (detected once, at build time).
     #[cfg(target_arch = "x86_64")]
-    avx: Option<Avx>,
-}
-
-/// Shape statistics of a built BVH (for `info --bvh` and benchmarks).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct BvhStats {
-    /// Number of nodes.
-    pub nodes: usize,
-    /// Number of leaves.
-    pub leaves: usize,
-    /// Depth of the deepest leaf (root = 1).
-    pub depth: u32,
-    /// Smallest leaf size.
-    pub min_leaf: u32,
-    /// Largest leaf size.
-    pub max_leaf: u32,
-    /// Mean leaf size.
-    pub mean_leaf: f64,
-    /// SAH cost: expected node visits plus primitive tests for a random ray that hits
-    /// the root box (traversal and intersection weighted 1 each; a leaf of triangles
-    /// counts one test per block of four, as they are intersected).
-    pub sah_cost: f64,
-    /// Bounded primitives in the tree.
-    pub primitives: usize,
-    /// Unbounded primitives tested beside it.
-    pub unbounded: usize,
+    pub(super) avx: Option<Avx>,
 }
 
 impl Bvh {
@@ -223,16 +196,14 @@ impl Bvh {
         ray: &Ray,
         t_max: f32,
     ) -> Option<(Hit, u32)> {
-        let mut best: Option<(Hit, u32)> = None;
-        let mut t_best = t_max;
+        let mut nearest = Nearest::new(t_max);
         for (i, p) in self.primitives[self.bounded..].iter().enumerate() {
-            if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                t_best = h.t;
-                best = Some((h, (self.bounded + i) as u32));
+            if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
+                nearest.offer(h, (self.bounded + i) as u32);
             }
         }
         if self.wide.is_empty() {
-            return best;
+            return nearest.best;
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
@@ -242,7 +213,8 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let (t, mut mask) = slabs.entries(node, &boxes, t_best, t_best);
+                let limit = nearest.limit;
+                let (t, mut mask) = slabs.entries(node, &boxes, limit, limit);
                 let mut inner = [(0u32, 0.0f32); WIDTH];
                 let mut n_inner = 0;
                 while mask != 0 {
@@ -254,7 +226,7 @@ impl Bvh {
                         n_inner += 1;
                         continue;
                     }
-                    if t[lane] >= t_best {
+                    if t[lane] >= nearest.limit {
                         continue;
                     }
                     let first = node.child[lane] as usize;
@@ -262,18 +234,16 @@ impl Bvh {
                         let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
                         count!(PRIMS, blocks.len() * LANES);
                         for block in blocks {
-                            if let Some((h, prim)) = block.closest_hit(&ray4, t_best) {
-                                t_best = h.t;
-                                best = Some((h, prim));
+                            if let Some((h, prim)) = block.closest_hit(&ray4, nearest.limit) {
+                                nearest.offer(h, prim);
                             }
                         }
                         continue;
                     }
                     count!(PRIMS, count);
                     for (k, p) in self.primitives[first..first + count].iter().enumerate() {
-                        if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                            t_best = h.t;
-                            best = Some((h, (first + k) as u32));
+                        if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
+                            nearest.offer(h, (first + k) as u32);
                         }
                     }
                 }
@@ -281,23 +251,23 @@ impl Bvh {
                 // that the nearer ones are popped first.
                 let inner = &mut inner[..n_inner];
                 sort_descending(inner);
-                let nearest = match inner.split_last() {
-                    Some((&nearest, farther)) => {
+                let next = match inner.split_last() {
+                    Some((&next, farther)) => {
                         // Element by element: a slice copy of at most four entries
                         // would be a call to memmove.
                         for &entry in farther {
                             stack.push(entry);
                         }
-                        Some(nearest)
+                        Some(next)
                     }
                     None => None,
                 };
-                // A leaf just tested may have moved `t_best` in front of a child.
-                match nearest.filter(|&(_, t)| t < t_best) {
+                // A leaf just tested may have moved the limit in front of a child.
+                match next.filter(|&(_, t)| t < nearest.limit) {
                     Some((next, _)) => index = next,
                     None => loop {
                         match stack.pop() {
-                            Some((next, t_entry)) if t_entry < t_best => {
+                            Some((next, t_entry)) if t_entry < nearest.limit => {
                                 index = next;
                                 break;
                             }
@@ -308,7 +278,7 @@ impl Bvh {
                 }
             }
         });
-        best
+        nearest.best
     }
 
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
@@ -404,116 +374,6 @@ impl Bvh {
                     None => return None,
                 }
             }
-        })
-    }
-
-    /// Reference query: tests every primitive (for tests and validation only).
-    pub fn closest_hit_linear(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
-        let mut best = None;
-        let mut t_best = t_max;
-        for (i, p) in self.primitives.iter().enumerate() {
-            if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                t_best = h.t;
-                best = Some((h, i as u32));
-            }
-        }
-        best
-    }
-
-    /// Checks the structural invariants: every bounded primitive in exactly one leaf,
-    /// every child box inside its parent, every primitive box inside its leaf, depth
-    /// within the traversal stack. Returns a description of the first violation.
-    pub fn validate(&self) -> Result<(), String> {
-        if self.depth as usize >= MAX_DEPTH {
-            return Err(format!("depth {} exceeds the stack", self.depth));
-        }
-        let mut seen = vec![0u8; self.bounded];
-        if self.bounded > 0 {
-            self.validate_node(0, &mut seen)?;
-        }
-        match seen.iter().position(|&c| c != 1) {
-            Some(i) => Err(format!("primitive {i} is reached {} times", seen[i])),
-            None => Ok(()),
-        }
-    }
-
-    fn validate_node(&self, index: usize, seen: &mut [u8]) -> Result<(), String> {
-        let node = &self.nodes[index];
-        let b = node.bounds();
-        if node.is_leaf() {
-            let first = node.first as usize;
-            let leaf = first..first + node.count as usize;
-            for (i, (p, count)) in self.primitives[leaf.clone()]
-                .iter()
-                .zip(&mut seen[leaf])
-                .enumerate()
-            {
-                let pb = p.bounds(&self.data).ok_or("unbounded primitive in a leaf")?;
-                if !b.contains(&pb) {
-                    return Err(format!("primitive {} sticks out of leaf {index}", first + i));
-                }
-                *count = count.saturating_add(1);
-            }
-            return Ok(());
-        }
-        for c in [node.first as usize, node.first as usize + 1] {
-            if c <= index || c >= self.nodes.len() {
-                return Err(format!("node {index} has a bad child {c}"));
-            }
-            if !b.contains(&self.nodes[c].bounds()) {
-                return Err(format!("child {c} sticks out of node {index}"));
-            }
-            self.validate_node(c, seen)?;
-        }
-        Ok(())
-    }
-
-    /// Node counts, depth, leaf sizes and SAH cost.
-    pub fn stats(&self) -> BvhStats {
-        let mut s = BvhStats {
-            nodes: if self.bounded == 0 { 0 } else { self.nodes.len() },
-            leaves: 0,
-            depth: if self.bounded == 0 { 0 } else { self.depth },
-            min_leaf: u32::MAX,
-            max_leaf: 0,
-            mean_leaf: 0.0,
-            sah_cost: 0.0,
-            primitives: self.bounded,
-            unbounded: self.primitives.len() - self.bounded,
-        };
-        if self.bounded == 0 {
-            s.min_leaf = 0;
-            return s;
-        }
-        let root_area = self.nodes[0].bounds().surface_area().max(f32::MIN_POSITIVE) as f64;
-        for n in &self.nodes {
-            let rel = n.bounds().surface_area() as f64 / root_area;
-            if n.is_leaf() {
-                s.leaves += 1;
-                s.min_leaf = s.min_leaf.min(n.count);
-                s.max_leaf = s.max_leaf.max(n.count);
-                let first = n.first as usize;
-                let leaf = &self.primitives[first..first + n.count as usize];
-                let unpackable = leaf
-                    .iter()
-                    .filter(|p| !matches!(p.shape, Shape::Triangle(_)))
-                    .count();
-                s.sah_cost += rel * build::leaf_cost(n.count, unpackable as u32) as f64;
-            } else {
-                s.sah_cost += rel;
-            }
-        }
-        s.mean_leaf = self.bounded as f64 / s.leaves as f64;
-        s
-    }
-
-    /// Bounding box of the bounded primitives, as (min, max); `None` if there are none.
-    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        (self.bounded > 0).then(|| {
-            (
-                Vec3::from_array(self.nodes[0].min),
-                Vec3::from_array(self.nodes[0].max),
-            )
         })
     }
 }

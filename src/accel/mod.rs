@@ -7,14 +7,19 @@ mod avx;
 mod binning;
 mod build;
 mod bvh;
+mod check;
+mod nearest;
 mod node;
+mod packet;
 mod tri4;
 mod wide;
 
 #[cfg(feature = "counters")]
 pub use bvh::counters;
-pub use bvh::{Bvh, BvhStats};
+pub use bvh::Bvh;
+pub use check::BvhStats;
 pub use node::BvhNode;
+pub use packet::PACKET;
 pub use wide::Node8;
 
 #[cfg(test)]

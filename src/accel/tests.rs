@@ -189,7 +189,8 @@ fn deep_trees_agree_with_brute_force() {
         let r = Ray::new(origin, (point(15.0) - origin).normalize());
         let fast = bvh.closest_hit(&r, f32::INFINITY);
         let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
-        assert_eq!(fast.map(|h| h.0.t), slow.map(|h| h.0.t));
+        // The same hit and primitive: ties go to the lowest index, as in the scan.
+        assert_eq!(fast, slow);
         // The portable kernels (what `closest_hit` runs on a CPU without AVX2) give
         // the very same answers as the ones this CPU may have chosen.
         let portable = bvh.closest_hit_with(super::wide::Portable, &r, f32::INFINITY);
@@ -298,5 +299,129 @@ fn parallel_build_equals_sequential_build_exactly() {
             }
             assert_eq!(covered, n);
         }
+    }
+}
+
+/// Packets give every ray exactly its single-ray answer (hit, distance bits and
+/// primitive), for coherent rays from one point (the interval test) and for rays
+/// whose directions differ in sign (ray-by-ray tests), packets of 1 to 8 rays; the
+/// scene has many exact ties (triangles sharing edges, a grid of coincident spheres).
+#[test]
+fn packets_give_each_ray_its_single_ray_answer() {
+    use super::PACKET;
+    let mut tris = Vec::new();
+    for i in 0..40 {
+        for j in 0..40 {
+            let (x, y) = (i as f32 * 0.5 - 10.0, j as f32 * 0.5 - 10.0);
+            let z = ((i * 7 + j * 3) % 5) as f32 * 0.1;
+            let (a, b, c, d) = (
+                Vec3::new(x, y, z),
+                Vec3::new(x + 0.5, y, z),
+                Vec3::new(x, y + 0.5, z),
+                Vec3::new(x + 0.5, y + 0.5, z),
+            );
+            tris.push([a, b, c]);
+            tris.push([b, d, c]);
+        }
+    }
+    let spheres: Vec<(Vec3, f32)> = (0..200)
+        .map(|i| (Vec3::new((i % 20) as f32 - 10.0, (i / 20) as f32 - 5.0, 2.0), 0.5))
+        .chain((0..50).map(|_| (Vec3::new(3.0, 3.0, 4.0), 0.7)))
+        .collect();
+    let bvh = bvh_of(&scene_with(&spheres, &tris));
+    let eye = Vec3::new(0.3, -2.0, 25.0);
+    let mut rays = Vec::new();
+    for j in 0..64 {
+        for i in 0..64 {
+            let target = Vec3::new(i as f32 * 0.33 - 10.5, j as f32 * 0.33 - 10.5, 0.0);
+            rays.push(Ray::new(eye, (target - eye).normalize()));
+        }
+    }
+    // Directions of mixed signs: from the scene's middle outwards and across it.
+    for i in 0..512 {
+        let a = i as f32 * 0.61;
+        let d = Vec3::new(a.cos(), a.sin(), (a * 0.37).sin() * 0.5);
+        rays.push(Ray::new(Vec3::new(0.1, 0.2, 1.0), d.normalize()));
+    }
+    let mut hits = 0;
+    for size in [1, 3, PACKET] {
+        for packet in rays.chunks(size) {
+            let mut out = vec![None; packet.len()];
+            bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
+            for (r, got) in packet.iter().zip(&out) {
+                let single = bvh.closest_hit(r, f32::INFINITY);
+                assert_eq!(
+                    got.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p)),
+                    single.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p))
+                );
+                hits += usize::from(got.is_some());
+            }
+        }
+    }
+    assert!(hits > 3 * 3000, "{hits} hits: the rays should mostly hit");
+}
+
+/// Rays straight down onto the shared edges and corners of a flat grid of triangles:
+/// several triangles are hit at exactly the same distance, in different leaves. The
+/// lowest primitive index must win, whatever order the traversal meets them in.
+#[test]
+fn ties_go_to_the_lowest_primitive_index() {
+    let mut tris = Vec::new();
+    for i in 0..24 {
+        for j in 0..24 {
+            let (x, y) = (i as f32, j as f32);
+            let (a, b, c, d) = (
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+                Vec3::new(x + 1.0, y + 1.0, 0.0),
+            );
+            tris.push([a, b, c]);
+            tris.push([b, d, c]);
+        }
+    }
+    let bvh = bvh_of(&scene_with(&[], &tris));
+    let mut rays = Vec::new();
+    for i in 1..48 {
+        for j in 1..48 {
+            let o = Vec3::new(i as f32 * 0.5, j as f32 * 0.5, 5.0);
+            rays.push(Ray::new(o, Vec3::new(0.0, 0.0, -1.0)));
+        }
+    }
+    let mut out = [None; super::PACKET];
+    for packet in rays.chunks(super::PACKET) {
+        let out = &mut out[..packet.len()];
+        bvh.closest_hit_packet(packet, f32::INFINITY, out);
+        for (r, got) in packet.iter().zip(out.iter()) {
+            let scan = bvh.closest_hit_linear(r, f32::INFINITY);
+            assert!(scan.is_some());
+            assert_eq!(bvh.closest_hit(r, f32::INFINITY), scan, "ray at {:?}", r.origin);
+            assert_eq!(*got, scan, "packet ray at {:?}", r.origin);
+        }
+    }
+}
+
+/// A ray with a zero direction component lying exactly in its box's face: the
+/// triangle's top edge (y = 2) is hit (Möller–Trumbore includes edges), so the slab
+/// test must not close the box at t = 0 (see `RayBoxes::exit_origin`).
+#[test]
+fn a_ray_in_a_box_face_still_finds_its_primitive() {
+    let tri = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 2.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+    ];
+    let bvh = bvh_of(&scene_with(&[], &[tri]));
+    for (o, d) in [
+        (Vec3::new(0.5, 2.0, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+        (Vec3::new(0.0, 1.0, -5.0), Vec3::new(-0.0, 0.0, 1.0)),
+    ] {
+        let r = Ray::new(o, d);
+        let hit = bvh.closest_hit(&r, f32::INFINITY);
+        assert_eq!(hit.map(|h| h.0.t), Some(5.0), "from {o:?}");
+        assert!(bvh.occluded(&r, 6.0));
+        let mut out = [None];
+        bvh.closest_hit_packet(&[r], f32::INFINITY, &mut out);
+        assert_eq!(out[0], hit);
     }
 }

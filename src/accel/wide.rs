@@ -12,7 +12,7 @@
 use wide::f32x8;
 
 use super::node::BvhNode;
-use crate::math::Ray;
+use crate::math::{Ray, TINY_DIR};
 
 /// Lanes per wide node.
 pub const WIDTH: usize = 8;
@@ -47,17 +47,30 @@ const EMPTY: Node8 = Node8 {
 #[derive(Clone, Copy)]
 pub struct RayBoxes {
     pub(super) origin: [f32; 3],
+    /// `Ray::inv_dir`, except on an axis the ray runs parallel to (a zero direction
+    /// component), where it is an infinity of the zero's sign. A ray lying exactly in
+    /// a box's plane then computes `0 · ∞ = NaN` for it, which the slab test ignores
+    /// (the box stays open on that axis, as the primitive tests in that face see it);
+    /// with `Ray::inv_dir`'s huge finite value it would compute 0 and close the box at
+    /// t = 0, missing the primitives in the face.
     pub(super) inv: [f32; 3],
 }
 
 impl RayBoxes {
-    /// Prepares `ray` (whose `inv_dir` is always finite).
+    /// Prepares `ray`.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
+        let dir = ray.dir.to_array();
         let inv = ray.inv_dir.to_array();
         RayBoxes {
             origin: ray.origin.to_array(),
-            inv,
+            inv: std::array::from_fn(|a| {
+                if dir[a].abs() < TINY_DIR {
+                    f32::INFINITY.copysign(inv[a])
+                } else {
+                    inv[a]
+                }
+            }),
         }
     }
 }
@@ -72,8 +85,8 @@ impl Node8 {
         let mut far = f32x8::splat(t_max);
         for axis in 0..3 {
             // The near plane is the min plane for a positive direction, else the max.
-            // `fast_min`/`fast_max` skip NaN handling: `Ray::inv_dir` is finite, and
-            // the boxes are finite or +infinity (empty lanes), so no NaN can arise.
+            // `a.fast_max(b)` is `a > b ? a : b` (one `maxps`), so a NaN `a` (a ray in
+            // the plane, see `RayBoxes::inv`) leaves `b`, the bound so far.
             // (A sign test of `inv` here, not a stored flag: flags stored as bytes and
             // reloaded together stall store forwarding at the start of every query.)
             let (lo, hi) = if r.inv[axis] < 0.0 {
@@ -81,8 +94,8 @@ impl Node8 {
             } else {
                 (&self.min[axis], &self.max[axis])
             };
-            near = near.fast_max((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]);
-            far = far.fast_min((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]);
+            near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
+            far = ((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]).fast_min(far);
         }
         let hit = near.simd_le(far) & near.simd_lt(f32x8::splat(t_limit));
         (near.to_array(), hit.to_bitmask())

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use super::limits::RenderLimitArgs;
 use super::load::load_scene_with;
 use super::CliError;
-use nffrt::accel::Bvh;
+use nffrt::accel::{Bvh, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::math::{Ray, Vec3};
 use nffrt::render::{Camera, Sampling};
@@ -112,6 +112,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             bvh.closest_hit(r, f32::INFINITY).is_some()
         });
         let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
+        let packets = time_packets(&pool, rays, args.repeat, &bvh);
         outln!(
             "{name:>8}: {} rays, {} hits; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
             rays.len(),
@@ -122,8 +123,22 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             occl.best_mrays,
             occl.hits
         );
+        outln!(
+            "{:>8}  packets of {PACKET} consecutive rays: closest hit {:.2} Mrays/s (best {:.2}), {} hits",
+            "",
+            packets.median_mrays,
+            packets.best_mrays,
+            packets.hits
+        );
+        if packets.hits != closest.hits {
+            return Err(CliError::io(format!(
+                "{name} rays: packets found {} hits, single rays {}: a traversal bug",
+                packets.hits, closest.hits
+            )));
+        }
         summary.push(format!("{name}_mrays={:.3}", closest.median_mrays));
         summary.push(format!("{name}_occl_mrays={:.3}", occl.median_mrays));
+        summary.push(format!("{name}_packet_mrays={:.3}", packets.median_mrays));
         summary.push(format!("{name}_hits={}", closest.hits));
     }
     summary.push(format!("threads={}", args.threads));
@@ -155,13 +170,41 @@ fn time_query(
                 .sum::<usize>()
         })
     };
+    time_passes(rays.len(), repeat, pass)
+}
+
+/// [`time_query`] for closest hits traced [`PACKET`] consecutive rays at a time.
+fn time_packets(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, bvh: &Bvh) -> Timing {
+    let pass = || -> usize {
+        pool.install(|| {
+            rays.par_chunks(4096)
+                .map(|c| {
+                    let mut out = [None; PACKET];
+                    c.chunks(PACKET)
+                        .map(|packet| {
+                            let out = &mut out[..packet.len()];
+                            bvh.closest_hit_packet(packet, f32::INFINITY, out);
+                            out.iter().filter(|h| h.is_some()).count()
+                        })
+                        .sum::<usize>()
+                })
+                .sum::<usize>()
+        })
+    };
+    time_passes(rays.len(), repeat, pass)
+}
+
+/// Runs `pass` (tracing `n_rays` rays, returning the hits) once to warm up, then
+/// `repeat` timed times.
+fn time_passes(n_rays: usize, repeat: u32, pass: impl Fn() -> usize) -> Timing {
+    let rays = n_rays;
     let hits = pass();
     let mut rates: Vec<f64> = (0..repeat)
         .map(|_| {
             let t0 = Instant::now();
             let n = pass();
             debug_assert_eq!(n, hits);
-            rays.len() as f64 / t0.elapsed().as_secs_f64() / 1e6
+            rays as f64 / t0.elapsed().as_secs_f64() / 1e6
         })
         .collect();
     let best = rates.iter().cloned().fold(0.0, f64::max);

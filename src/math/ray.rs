@@ -34,13 +34,16 @@ impl Ray {
     }
 }
 
+/// Direction components smaller than this in magnitude count as zero in
+/// [`Ray::inv_dir`] (they are raised to it, sign kept).
+pub const TINY_DIR: f32 = 1e-30;
+
 /// `1 / x`, finite for every finite `x`: tiny magnitudes (including zero) are raised
-/// to 1e-30 with their sign kept.
+/// to [`TINY_DIR`] with their sign kept.
 #[inline]
 fn safe_recip(x: f32) -> f32 {
-    const TINY: f32 = 1e-30;
-    if x.abs() < TINY {
-        1.0 / TINY.copysign(x)
+    if x.abs() < TINY_DIR {
+        1.0 / TINY_DIR.copysign(x)
     } else {
         1.0 / x
     }

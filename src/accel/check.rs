@@ -1,0 +1,147 @@
+//! Checks and statistics of a built BVH: the brute-force reference query, structural
+//! validation, shape statistics (with the SAH cost) and bounds.
+
+use super::build;
+use super::bvh::Bvh;
+use crate::geometry::{Hit, Shape};
+use crate::math::{Ray, Vec3};
+
+/// Depth limit of the binary tree (the builder stays well below it).
+const MAX_DEPTH: usize = 64;
+
+/// Shape statistics of a built BVH (for `info --bvh` and benchmarks).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct BvhStats {
+    /// Number of nodes.
+    pub nodes: usize,
+    /// Number of leaves.
+    pub leaves: usize,
+    /// Depth of the deepest leaf (root = 1).
+    pub depth: u32,
+    /// Smallest leaf size.
+    pub min_leaf: u32,
+    /// Largest leaf size.
+    pub max_leaf: u32,
+    /// Mean leaf size.
+    pub mean_leaf: f64,
+    /// SAH cost: expected node visits plus primitive tests for a random ray that hits
+    /// the root box (traversal and intersection weighted 1 each; a leaf of triangles
+    /// counts one test per block of four, as they are intersected).
+    pub sah_cost: f64,
+    /// Bounded primitives in the tree.
+    pub primitives: usize,
+    /// Unbounded primitives tested beside it.
+    pub unbounded: usize,
+}
+
+impl Bvh {
+    /// Reference query: tests every primitive (for tests and validation only).
+    pub fn closest_hit_linear(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
+        let mut best = None;
+        let mut t_best = t_max;
+        for (i, p) in self.primitives.iter().enumerate() {
+            if let Some(h) = p.intersect(ray, t_best, &self.data) {
+                t_best = h.t;
+                best = Some((h, i as u32));
+            }
+        }
+        best
+    }
+
+    /// Checks the structural invariants: every bounded primitive in exactly one leaf,
+    /// every child box inside its parent, every primitive box inside its leaf, depth
+    /// within the traversal stack. Returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.depth as usize >= MAX_DEPTH {
+            return Err(format!("depth {} exceeds the stack", self.depth));
+        }
+        let mut seen = vec![0u8; self.bounded];
+        if self.bounded > 0 {
+            self.validate_node(0, &mut seen)?;
+        }
+        match seen.iter().position(|&c| c != 1) {
+            Some(i) => Err(format!("primitive {i} is reached {} times", seen[i])),
+            None => Ok(()),
+        }
+    }
+
+    fn validate_node(&self, index: usize, seen: &mut [u8]) -> Result<(), String> {
+        let node = &self.nodes[index];
+        let b = node.bounds();
+        if node.is_leaf() {
+            let first = node.first as usize;
+            let leaf = first..first + node.count as usize;
+            for (i, (p, count)) in self.primitives[leaf.clone()]
+                .iter()
+                .zip(&mut seen[leaf])
+                .enumerate()
+            {
+                let pb = p.bounds(&self.data).ok_or("unbounded primitive in a leaf")?;
+                if !b.contains(&pb) {
+                    return Err(format!("primitive {} sticks out of leaf {index}", first + i));
+                }
+                *count = count.saturating_add(1);
+            }
+            return Ok(());
+        }
+        for c in [node.first as usize, node.first as usize + 1] {
+            if c <= index || c >= self.nodes.len() {
+                return Err(format!("node {index} has a bad child {c}"));
+            }
+            if !b.contains(&self.nodes[c].bounds()) {
+                return Err(format!("child {c} sticks out of node {index}"));
+            }
+            self.validate_node(c, seen)?;
+        }
+        Ok(())
+    }
+
+    /// Node counts, depth, leaf sizes and SAH cost.
+    pub fn stats(&self) -> BvhStats {
+        let mut s = BvhStats {
+            nodes: if self.bounded == 0 { 0 } else { self.nodes.len() },
+            leaves: 0,
+            depth: if self.bounded == 0 { 0 } else { self.depth },
+            min_leaf: u32::MAX,
+            max_leaf: 0,
+            mean_leaf: 0.0,
+            sah_cost: 0.0,
+            primitives: self.bounded,
+            unbounded: self.primitives.len() - self.bounded,
+        };
+        if self.bounded == 0 {
+            s.min_leaf = 0;
+            return s;
+        }
+        let root_area = self.nodes[0].bounds().surface_area().max(f32::MIN_POSITIVE) as f64;
+        for n in &self.nodes {
+            let rel = n.bounds().surface_area() as f64 / root_area;
+            if n.is_leaf() {
+                s.leaves += 1;
+                s.min_leaf = s.min_leaf.min(n.count);
+                s.max_leaf = s.max_leaf.max(n.count);
+                let first = n.first as usize;
+                let leaf = &self.primitives[first..first + n.count as usize];
+                let unpackable = leaf
+                    .iter()
+                    .filter(|p| !matches!(p.shape, Shape::Triangle(_)))
+                    .count();
+                s.sah_cost += rel * build::leaf_cost(n.count, unpackable as u32) as f64;
+            } else {
+                s.sah_cost += rel;
+            }
+        }
+        s.mean_leaf = self.bounded as f64 / s.leaves as f64;
+        s
+    }
+
+    /// Bounding box of the bounded primitives, as (min, max); `None` if there are none.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        (self.bounded > 0).then(|| {
+            (
+                Vec3::from_array(self.nodes[0].min),
+                Vec3::from_array(self.nodes[0].max),
+            )
+        })
+    }
+}

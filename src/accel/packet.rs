@@ -1,0 +1,271 @@
+//! Packets of up to eight coherent rays (neighbouring camera rays) traced together.
+//!
+//! The packet shares one walk of the tree: one stack, one fetch of each node, one
+//! ordering decision per node. When its rays' directions agree in sign on every axis
+//! (neighbouring camera rays nearly always do), a node's eight boxes are tested once
+//! for the whole packet with interval arithmetic over the rays' origins and inverse
+//! directions (Wald, Boulos and Shirley 2007, "Ray tracing deformable scenes using
+//! dynamic bounding volume hierarchies"): a conservative test, since correctly
+//! rounded arithmetic is monotonic, so a box any ray enters is entered. Otherwise
+//! each ray runs the slab test of [`Bvh::closest_hit`] and the walk follows the
+//! union. Leaves are tested ray by ray with the single-ray code, so every ray gets
+//! the nearest distance `closest_hit` gives it; only when two primitives tie at
+//! exactly that distance may the packet report the other one (it meets leaves in
+//! another order).
+
+use std::cell::RefCell;
+
+use wide::f32x8;
+
+use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
+use super::nearest::Nearest;
+use super::tri4::Ray4;
+use super::wide::{Node8, Portable, RayBoxes, SlabTest, WIDTH};
+use crate::geometry::Hit;
+use crate::math::{Ray, TINY_DIR};
+
+/// Rays per packet.
+pub const PACKET: usize = 8;
+
+/// A stack entry: a node, the rays entering it, and the nearest of their entries.
+#[derive(Clone, Copy)]
+struct Entry {
+    node: u32,
+    rays: u32,
+    near: f32,
+}
+
+/// Per axis, the range of a packet's origins and inverse directions, all of one
+/// sign (`negative`).
+struct Interval {
+    origin: [[f32; 2]; 3],
+    inv: [[f32; 2]; 3],
+    negative: [bool; 3],
+}
+
+impl Interval {
+    /// The interval of `rays`, if their directions agree in sign on every axis.
+    fn of(rays: &[Ray]) -> Option<Interval> {
+        let mut iv = Interval {
+            origin: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
+            inv: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
+            negative: [false; 3],
+        };
+        for axis in 0..3 {
+            iv.negative[axis] = rays.first()?.inv_dir[axis] < 0.0;
+            for r in rays {
+                let (o, inv) = (r.origin[axis], r.inv_dir[axis]);
+                // Rays parallel to an axis take the ray-by-ray test (see `RayBoxes`).
+                if (inv < 0.0) != iv.negative[axis] || r.dir[axis].abs() < TINY_DIR {
+                    return None;
+                }
+                iv.origin[axis] = [iv.origin[axis][0].min(o), iv.origin[axis][1].max(o)];
+                iv.inv[axis] = [iv.inv[axis][0].min(inv), iv.inv[axis][1].max(inv)];
+            }
+        }
+        Some(iv)
+    }
+
+    /// A lower bound of every ray's entry into each lane's box and the lanes some ray
+    /// may enter before `t_limit` (as bits).
+    ///
+    /// Per axis, with `t = (plane − o) · inv`: for positive directions the entry is
+    /// least for the greatest origin, the exit greatest for the least origin, and the
+    /// other way round for negative ones; the two inverse directions bound the rest.
+    #[inline(always)]
+    fn entries(&self, node: &Node8, t_limit: f32) -> ([f32; WIDTH], u32) {
+        let mut near = f32x8::ZERO;
+        let mut far = f32x8::splat(t_limit);
+        for axis in 0..3 {
+            let [o_lo, o_hi] = self.origin[axis];
+            let [inv_lo, inv_hi] = self.inv[axis].map(f32x8::splat);
+            let (entry, exit, o_entry, o_exit) = if self.negative[axis] {
+                (&node.max[axis], &node.min[axis], o_lo, o_hi)
+            } else {
+                (&node.min[axis], &node.max[axis], o_hi, o_lo)
+            };
+            let d_entry = f32x8::from(*entry) - o_entry;
+            let d_exit = f32x8::from(*exit) - o_exit;
+            near = near.fast_max((d_entry * inv_lo).fast_min(d_entry * inv_hi));
+            far = far.fast_min((d_exit * inv_lo).fast_max(d_exit * inv_hi));
+        }
+        let hit = near.simd_le(far) & near.simd_lt(f32x8::splat(t_limit));
+        (near.to_array(), hit.to_bitmask())
+    }
+}
+
+thread_local! {
+    /// Each thread's packet traversal stack, reused across queries.
+    static PACKET_STACK: RefCell<Vec<Entry>> = RefCell::new(Vec::with_capacity(256));
+}
+
+impl Bvh {
+    /// [`Bvh::closest_hit`] for up to [`PACKET`] rays at once: `out[k]` receives the
+    /// nearest hit of `rays[k]` with `0 < t < t_max`. Fastest on coherent rays.
+    ///
+    /// # Panics
+    /// If there are more than [`PACKET`] rays or `out` has another length.
+    pub fn closest_hit_packet(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = self.avx {
+            return avx.closest_hit_packet(self, rays, t_max, out);
+        }
+        self.closest_hit_packet_with(Portable, rays, t_max, out)
+    }
+
+    /// [`Bvh::closest_hit_packet`] with the slab test `slabs` (see `closest_hit_with`).
+    #[inline(always)]
+    pub(super) fn closest_hit_packet_with<S: SlabTest>(
+        &self,
+        slabs: S,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<(Hit, u32)>],
+    ) {
+        let n = rays.len();
+        assert!(n <= PACKET, "at most {PACKET} rays per packet");
+        assert_eq!(out.len(), n, "one result per ray");
+        let mut nearest = [Nearest::new(t_max); PACKET];
+        for (k, ray) in rays.iter().enumerate() {
+            let unbounded = &self.primitives[self.bounded..];
+            for (i, p) in unbounded.iter().enumerate() {
+                if let Some(h) = p.intersect(ray, nearest[k].limit, &self.data) {
+                    nearest[k].offer(h, (self.bounded + i) as u32);
+                }
+            }
+        }
+        if !self.wide.is_empty() && n > 0 {
+            self.walk_packet(slabs, rays, &mut nearest);
+        }
+        for (o, near) in out.iter_mut().zip(&nearest) {
+            *o = near.best;
+        }
+    }
+
+    /// The tree walk of [`Bvh::closest_hit_packet`] for `rays` (one to [`PACKET`]),
+    /// improving `nearest[k]` for ray `k`.
+    #[inline(always)]
+    fn walk_packet<S: SlabTest>(&self, slabs: S, rays: &[Ray], nearest: &mut [Nearest; PACKET]) {
+        let n = rays.len();
+        let interval = Interval::of(rays);
+        let boxes: [RayBoxes; PACKET] = std::array::from_fn(|k| RayBoxes::new(&rays[k.min(n - 1)]));
+        let ray4: [Ray4; PACKET] = std::array::from_fn(|k| Ray4::new(&rays[k.min(n - 1)]));
+        PACKET_STACK.with_borrow_mut(|stack| {
+            stack.clear();
+            let mut index = 0u32;
+            let mut active = (1u32 << n) - 1;
+            loop {
+                let node = &self.wide[index as usize];
+                // The rays entering each child, and the nearest of their entries.
+                let mut lane_rays = [0u32; WIDTH];
+                let mut lane_near = [f32::INFINITY; WIDTH];
+                if let Some(iv) = &interval {
+                    let mut t_limit = 0.0f32;
+                    let mut each = active;
+                    while each != 0 {
+                        let k = each.trailing_zeros() as usize;
+                        each &= each - 1;
+                        t_limit = t_limit.max(nearest[k].limit);
+                    }
+                    let (near, mut mask) = iv.entries(node, t_limit);
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        lane_rays[lane] = active;
+                        lane_near[lane] = near[lane];
+                    }
+                }
+                let mut left = if interval.is_some() { 0 } else { active };
+                while left != 0 {
+                    let k = left.trailing_zeros() as usize;
+                    left &= left - 1;
+                    let limit = nearest[k].limit;
+                    let (t, mut mask) = slabs.entries(node, &boxes[k], limit, limit);
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        lane_rays[lane] |= 1 << k;
+                        lane_near[lane] = lane_near[lane].min(t[lane]);
+                    }
+                }
+                let mut inner = [(0u32, 0.0f32); WIDTH];
+                let mut inner_rays = [0u32; WIDTH];
+                let mut n_inner = 0;
+                for lane in 0..WIDTH {
+                    let entering = lane_rays[lane];
+                    if entering == 0 {
+                        continue;
+                    }
+                    let count = node.count[lane] as usize;
+                    if count == 0 {
+                        // The child's index stays with its rays through the sort.
+                        inner[n_inner] = (lane as u32, lane_near[lane]);
+                        inner_rays[lane] = entering;
+                        n_inner += 1;
+                        continue;
+                    }
+                    let first = node.child[lane] as usize;
+                    let mut each = entering;
+                    while each != 0 {
+                        let k = each.trailing_zeros() as usize;
+                        each &= each - 1;
+                        if count & TRI4_LEAF != 0 {
+                            for block in &self.tri4[first..first + (count & !TRI4_LEAF)] {
+                                if let Some((h, prim)) = block.closest_hit(&ray4[k], nearest[k].limit) {
+                                    nearest[k].offer(h, prim);
+                                }
+                            }
+                            continue;
+                        }
+                        for (j, p) in self.primitives[first..first + count].iter().enumerate() {
+                            if let Some(h) = p.intersect(&rays[k], nearest[k].limit, &self.data) {
+                                nearest[k].offer(h, (first + j) as u32);
+                            }
+                        }
+                    }
+                }
+                // Nearest child next, the others stacked far to near.
+                let inner = &mut inner[..n_inner];
+                sort_descending(inner);
+                let mut next = None;
+                for (i, &(lane, near)) in inner.iter().enumerate() {
+                    let entry = Entry {
+                        node: node.child[lane as usize],
+                        rays: inner_rays[lane as usize],
+                        near,
+                    };
+                    if i + 1 == n_inner {
+                        next = Some(entry);
+                    } else {
+                        stack.push(entry);
+                    }
+                }
+                // A child is worth entering while one of its rays has found nothing
+                // nearer than the child's nearest entry.
+                let useful = |e: &Entry| {
+                    let mut rays = e.rays;
+                    let mut any = 0;
+                    while rays != 0 {
+                        let k = rays.trailing_zeros() as usize;
+                        rays &= rays - 1;
+                        if e.near < nearest[k].limit {
+                            any |= 1 << k;
+                        }
+                    }
+                    any
+                };
+                let mut found = next.map(|e| (e, useful(&e))).filter(|&(_, r)| r != 0);
+                while found.is_none() {
+                    let Some(e) = stack.pop() else { return };
+                    let r = useful(&e);
+                    if r != 0 {
+                        found = Some((e, r));
+                    }
+                }
+                let (e, rays) = found.expect("a node to visit");
+                index = e.node;
+                active = rays;
+            }
+        });
+    }
+}
