@@ -22,7 +22,7 @@ use rayon::prelude::*;
 
 use crate::accel::Bvh;
 use crate::image::{Image, Region};
-use crate::math::Vec3;
+use crate::math::{Ray, Vec3};
 use crate::scene::Scene;
 
 /// How to render.
@@ -118,21 +118,29 @@ pub fn render_region(
     let (x0, y0) = (region.x0, region.y0);
     let (w, h) = (region.width() as usize, region.height() as usize);
     let trace_at = |x: f32, y: f32, stats: &mut Stats| tracer.trace_eye(&camera.ray(x, y), stats);
+    // A row of eye rays through raster points (x0 + i + offset, y + offset), traced
+    // in packets.
+    let eye_row = |offset: f32, cols: usize, y: u32, st: &mut Stats, out: &mut Vec<Vec3>| {
+        let rays: Vec<Ray> = (0..cols as u32)
+            .map(|i| camera.ray((x0 + i) as f32 + offset, y as f32 + offset))
+            .collect();
+        tracer.trace_eye_row(&rays, st, out);
+    };
     let pixels = match opts.sampling {
-        Sampling::PixelCenters => trace_grid(x0, y0, w, h, observer, |i, j, st| {
-            trace_at(i as f32 + 0.5, j as f32 + 0.5, st)
-        }),
+        Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
         Sampling::Stratified { spp } => {
             let strata = Strata::new(spp);
-            trace_grid(x0, y0, w, h, observer, |i, j, st| {
-                stratified_mean(&strata, i, j, |x, y| trace_at(x, y, st))
+            trace_rows(y0, w, h, observer, |y, st, out| {
+                for i in x0..x0 + w as u32 {
+                    out.push(stratified_mean(&strata, i, y, |x, y| trace_at(x, y, st)));
+                }
             })
         }
         Sampling::SpdCorners => {
             // Corner (i, j) is the raster point (i, j): the region's pixels need the
             // corners x0..=x1, y0..=y1, the same rays the full render traces there.
-            let (corners, stats) = trace_grid(x0, y0, w + 1, h + 1, observer, |i, j, st| {
-                trace_at(i as f32, j as f32, st)
+            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, |y, st, out| {
+                eye_row(0.0, w + 1, y, st, out)
             })?;
             let mut pixels = Vec::with_capacity(w * h);
             for j in 0..h {
@@ -171,15 +179,14 @@ pub fn stratified_mean(strata: &Strata, x: u32, y: u32, mut sample: impl FnMut(f
     sum
 }
 
-/// Evaluates `f(i, j)` over `cols` x `rows` points starting at `(x0, y0)`, rows in
-/// parallel, assembled in order.
-fn trace_grid(
-    x0: u32,
+/// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
+/// (which appends `cols` values to `out`), rows in parallel, assembled in order.
+fn trace_rows(
     y0: u32,
     cols: usize,
     rows: usize,
     observer: &dyn Observer,
-    f: impl Fn(u32, u32, &mut Stats) -> Vec3 + Sync,
+    row: impl Fn(u32, &mut Stats, &mut Vec<Vec3>) + Sync,
 ) -> Option<(Vec<Vec3>, Stats)> {
     let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows as u32)
         .into_par_iter()
@@ -189,9 +196,11 @@ fn trace_grid(
             }
             let mut stats = Stats::default();
             trace::reset_shadow_cache();
-            let row = (0..cols as u32).map(|i| f(x0 + i, y0 + j, &mut stats)).collect();
+            let mut values = Vec::with_capacity(cols);
+            row(y0 + j, &mut stats, &mut values);
+            debug_assert_eq!(values.len(), cols);
             observer.row_done(stats.total_rays());
-            Some((row, stats))
+            Some((values, stats))
         })
         .collect();
     let per_row = per_row?;

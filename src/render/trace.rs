@@ -9,8 +9,8 @@ use super::shade::{reflect, refract, Lighting};
 use super::stats::Stats;
 use std::cell::Cell;
 
-use crate::accel::Bvh;
-use crate::geometry::Primitive;
+use crate::accel::{Bvh, PACKET};
+use crate::geometry::{Hit, Primitive};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
 
@@ -157,7 +157,37 @@ impl<'a> Tracer<'a> {
 
     /// The colour seen along `ray` at ray-tree depth `depth`.
     fn trace<R: Recorder>(&self, ray: &Ray, depth: u32, stats: &mut Stats, rec: &mut R) -> Vec3 {
-        let Some((hit, index)) = self.bvh.closest_hit(ray, f32::INFINITY) else {
+        let found = self.bvh.closest_hit(ray, f32::INFINITY);
+        self.shade(ray, depth, found, stats, rec)
+    }
+
+    /// Eye rays (depth 1) a row at a time, [`PACKET`] neighbours traced through the
+    /// BVH together, each then shaded as [`Tracer::trace_eye`] shades it (packets find
+    /// the very hits single rays find, so the colours are the same); appends the
+    /// colours to `out`.
+    pub fn trace_eye_row(&self, rays: &[Ray], stats: &mut Stats, out: &mut Vec<Vec3>) {
+        let mut hits = [None; PACKET];
+        for packet in rays.chunks(PACKET) {
+            let hits = &mut hits[..packet.len()];
+            self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
+            for (ray, &found) in packet.iter().zip(hits.iter()) {
+                stats.eye_rays += 1;
+                let c = self.shade(ray, 1, found, stats, &mut NoRecord);
+                out.push(if c.is_finite() { c } else { Vec3::ZERO });
+            }
+        }
+    }
+
+    /// The colour seen along `ray` (at ray-tree depth `depth`) given its closest hit.
+    fn shade<R: Recorder>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        found: Option<(Hit, u32)>,
+        stats: &mut Stats,
+        rec: &mut R,
+    ) -> Vec3 {
+        let Some((hit, index)) = found else {
             if R::ENABLED {
                 rec.miss(ray, self.background);
             }
