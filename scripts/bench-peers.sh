@@ -32,7 +32,7 @@ if command -v povray >/dev/null; then
 fi
 
 echo "== scale: nffrt gen balls, sizes 4 (7 381 spheres) and 6 (597 871), 1 thread (median of $runs)"
-printf '%-8s %10s %10s %10s %12s %12s\n' size spheres parse_s build_s primary_mrays random_mrays
+printf '%-8s %10s %10s %10s %12s %12s %14s\n' size spheres parse_s build_s primary_mrays random_mrays primary_packet
 for size in 4 5 6; do
     "$nffrt" gen balls --size "$size" -o "$tmp/balls$size.nff"
     st=$(for _ in $(seq "$runs"); do "$nffrt" render "$tmp/balls$size.nff" --width 64 --height 64 -q -o "$tmp/b.png" --stats-json "$tmp/b.json" --threads 1; python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['parse_s'], d['build_s'], d['primitives'])" "$tmp/b.json"; done)
@@ -40,7 +40,8 @@ for size in 4 5 6; do
     b=$(for _ in $(seq "$runs"); do "$nffrt" bench "$tmp/balls$size.nff" --repeat 5 | tail -1; done)
     pm=$(echo "$b" | tr ' ' '\n' | grep "^primary_mrays=" | cut -d= -f2 | median)
     rm_=$(echo "$b" | tr ' ' '\n' | grep "^random_mrays=" | cut -d= -f2 | median)
-    printf '%-8s %10s %10.3f %10.3f %12.2f %12.2f\n' "$size" "$prims" "$parse" "$build" "$pm" "$rm_"
+    pp=$(echo "$b" | tr ' ' '\n' | grep "^primary_packet_mrays=" | cut -d= -f2 | median)
+    printf '%-8s %10s %10.3f %10.3f %12.2f %12.2f %14.2f\n' "$size" "$prims" "$parse" "$build" "$pm" "$rm_" "$pp"
 done
 
 if [ -x "$py" ]; then
@@ -63,7 +64,7 @@ if [ -x "$py" ]; then
     # (needs Debian's libembree-dev; skipped without it).
     if gcc -O2 -o "$tmp/embree_native" "$shared/bench/embree_native.c" -lembree3 2>/dev/null; then
         echo "== Embree native (C): single rays and coherent 8-ray packets, primary rays (Mrays/s, median of $runs)"
-        printf '%-18s %10s %10s %10s\n' scene single packet8 nffrt
+        printf '%-18s %10s %10s %10s %14s\n' scene single packet8 nffrt nffrt-packet8
         for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
             name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
             "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
@@ -72,7 +73,8 @@ if [ -x "$py" ]; then
             packet=$(echo "$e" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
             n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_primary.f32" --rays-only --repeat 10 | tail -1; done)
             ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
-            printf '%-18s %10.2f %10.2f %10.2f\n' "$name" "$single" "$packet" "$ours"
+            ourp=$(echo "$n" | tr ' ' '\n' | grep "^rays_packet_mrays=" | cut -d= -f2 | median)
+            printf '%-18s %10.2f %10.2f %10.2f %14.2f\n' "$name" "$single" "$packet" "$ours" "$ourp"
         done
     fi
 fi
