@@ -6,7 +6,10 @@
 //! for the whole packet with interval arithmetic over the rays' origins and inverse
 //! directions (Wald, Boulos and Shirley 2007, "Ray tracing deformable scenes using
 //! dynamic bounding volume hierarchies"): a conservative test, since correctly
-//! rounded arithmetic is monotonic, so a box any ray enters is entered. Otherwise
+//! rounded arithmetic is monotonic, so a box any ray enters is entered. Otherwise,
+//! and below boxes smaller than half the packet's footprint (where the rays go
+//! separate ways and the interval test would let every ray into every box any of them
+//! enters: 600 000 spheres, each a few pixels wide, ran at half the single-ray speed),
 //! each ray runs the slab test of [`Bvh::closest_hit`] and the walk follows the
 //! union. Leaves are tested ray by ray with the single-ray code, so every ray gets
 //! the nearest distance `closest_hit` gives it; only when two primitives tie at
@@ -27,12 +30,17 @@ use crate::math::{Ray, TINY_DIR};
 /// Rays per packet.
 pub const PACKET: usize = 8;
 
+/// Boxes at least this many times the packet's footprint get the interval test.
+const COHERENCE: f32 = 0.5;
+
 /// A stack entry: a node, the rays entering it, and the nearest of their entries.
 #[derive(Clone, Copy)]
 struct Entry {
     node: u32,
     rays: u32,
     near: f32,
+    /// Whether the node's boxes are tested with the interval test.
+    coherent: bool,
 }
 
 /// Per axis, the range of a packet's origins and inverse directions, all of one
@@ -41,6 +49,10 @@ struct Interval {
     origin: [[f32; 2]; 3],
     inv: [[f32; 2]; 3],
     negative: [bool; 3],
+    /// The spread of the origins and of the (unit) directions, largest over the axes:
+    /// at distance t the rays lie within about `spread[0] + t · spread[1]` of each
+    /// other.
+    spread: [f32; 2],
 }
 
 impl Interval {
@@ -50,6 +62,7 @@ impl Interval {
             origin: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
             inv: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
             negative: [false; 3],
+            spread: [0.0; 2],
         };
         for axis in 0..3 {
             iv.negative[axis] = rays.first()?.inv_dir[axis] < 0.0;
@@ -62,8 +75,21 @@ impl Interval {
                 iv.origin[axis] = [iv.origin[axis][0].min(o), iv.origin[axis][1].max(o)];
                 iv.inv[axis] = [iv.inv[axis][0].min(inv), iv.inv[axis][1].max(inv)];
             }
+            // The directions' range from the inverses' (same sign, so 1/x is monotonic).
+            let [inv_lo, inv_hi] = iv.inv[axis];
+            iv.spread[0] = iv.spread[0].max(iv.origin[axis][1] - iv.origin[axis][0]);
+            iv.spread[1] = iv.spread[1].max((1.0 / inv_lo - 1.0 / inv_hi).abs());
         }
         Some(iv)
+    }
+
+    /// Whether a box of extent `size` entered at `t` is still large against the
+    /// packet's footprint there, so that one interval test beats one per ray (in
+    /// boxes much smaller than the footprint the rays go separate ways, and the
+    /// interval test would let every ray into every box any of them enters).
+    #[inline(always)]
+    fn worth_it(&self, size: f32, t: f32) -> bool {
+        size >= COHERENCE * (self.spread[0] + t * self.spread[1])
     }
 
     /// A lower bound of every ray's entry into each lane's box and the lanes some ray
@@ -154,12 +180,13 @@ impl Bvh {
             stack.clear();
             let mut index = 0u32;
             let mut active = (1u32 << n) - 1;
+            let mut coherent = interval.is_some();
             loop {
                 let node = &self.wide[index as usize];
                 // The rays entering each child, and the nearest of their entries.
                 let mut lane_rays = [0u32; WIDTH];
                 let mut lane_near = [f32::INFINITY; WIDTH];
-                if let Some(iv) = &interval {
+                if let Some(iv) = interval.as_ref().filter(|_| coherent) {
                     let mut t_limit = 0.0f32;
                     let mut each = active;
                     while each != 0 {
@@ -175,7 +202,7 @@ impl Bvh {
                         lane_near[lane] = near[lane];
                     }
                 }
-                let mut left = if interval.is_some() { 0 } else { active };
+                let mut left = if interval.is_some() && coherent { 0 } else { active };
                 while left != 0 {
                     let k = left.trailing_zeros() as usize;
                     left &= left - 1;
@@ -190,6 +217,7 @@ impl Bvh {
                 }
                 let mut inner = [(0u32, 0.0f32); WIDTH];
                 let mut inner_rays = [0u32; WIDTH];
+                let mut inner_coherent = [false; WIDTH];
                 let mut n_inner = 0;
                 for lane in 0..WIDTH {
                     let entering = lane_rays[lane];
@@ -201,6 +229,15 @@ impl Bvh {
                         // The child's index stays with its rays through the sort.
                         inner[n_inner] = (lane as u32, lane_near[lane]);
                         inner_rays[lane] = entering;
+                        inner_coherent[lane] = match &interval {
+                            Some(iv) if coherent => {
+                                let size = (0..3)
+                                    .map(|a| node.max[a][lane] - node.min[a][lane])
+                                    .fold(0.0f32, f32::max);
+                                iv.worth_it(size, lane_near[lane])
+                            }
+                            _ => false,
+                        };
                         n_inner += 1;
                         continue;
                     }
@@ -233,6 +270,7 @@ impl Bvh {
                         node: node.child[lane as usize],
                         rays: inner_rays[lane as usize],
                         near,
+                        coherent: inner_coherent[lane as usize],
                     };
                     if i + 1 == n_inner {
                         next = Some(entry);
@@ -265,6 +303,7 @@ impl Bvh {
                 let (e, rays) = found.expect("a node to visit");
                 index = e.node;
                 active = rays;
+                coherent = e.coherent;
             }
         });
     }
