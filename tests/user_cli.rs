@@ -183,3 +183,66 @@ fn info_bvh_reports_the_tree() {
     let j: serde_json::Value = serde_json::from_slice(&plain.stdout).unwrap();
     assert!(j.get("bvh").is_none());
 }
+
+/// `nffrt bench --rays`: the summary line has every key BENCHMARKS.md reads, and the
+/// closest-hit count of the file's rays is the hand-counted one. One sphere of radius
+/// 1 at the origin; of ten rays from z = -5 towards +z, those starting within the
+/// radius of the axis hit it (x = 0, ±0.5, ±0.9: five), the others (x = ±1.5, ±3,
+/// and 2 in y) miss it; one packet holds eight of them, a second the last two.
+#[test]
+fn bench_reports_every_key_and_the_hand_counted_hits() {
+    let dir = scratch("bench_rays");
+    let scene = dir.join("sphere.nff");
+    std::fs::write(
+        &scene,
+        "v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\nresolution 16 16\n\
+         l 0 0 -10\nf 1 1 1 1 0 0 0 1\ns 0 0 0 1\n",
+    )
+    .unwrap();
+    let xs = [0.0f32, 0.5, -0.5, 0.9, -0.9, 1.5, -1.5, 3.0, -3.0, 0.0];
+    let mut bytes = Vec::new();
+    for (i, &x) in xs.iter().enumerate() {
+        let y = if i == 9 { 2.0 } else { 0.0 };
+        for v in [x, y, -5.0, 0.0, 0.0, 1.0] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    let rays = dir.join("rays.f32");
+    std::fs::write(&rays, bytes).unwrap();
+    let out = nffrt(
+        &[
+            "bench",
+            scene.to_str().unwrap(),
+            "--rays",
+            rays.to_str().unwrap(),
+            "--repeat",
+            "1",
+        ],
+        b"",
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let summary = stdout.lines().last().unwrap();
+    let value = |key: &str| {
+        summary
+            .split(' ')
+            .find_map(|kv| kv.strip_prefix(&format!("{key}=")))
+            .unwrap_or_else(|| panic!("no {key} in {summary}"))
+    };
+    for key in [
+        "build_ms",
+        "sah_cost",
+        "primary_mrays",
+        "primary_occl_mrays",
+        "primary_packet_mrays",
+        "random_mrays",
+        "random_occl_mrays",
+        "rays_mrays",
+        "rays_occl_mrays",
+        "rays_packet_mrays",
+    ] {
+        assert!(value(key).parse::<f64>().unwrap() > 0.0, "{key} in {summary}");
+    }
+    assert_eq!(value("rays_hits"), "5");
+    assert!(stdout.contains("packets of 8 consecutive rays"), "{stdout}");
+}

@@ -98,7 +98,8 @@ enum Command {
     /// Assemble the PNG tiles of `render --region` into the full image.
     Merge(merge::MergeArgs),
     /// Time the acceleration structure alone: closest-hit and occlusion queries on
-    /// primary, random and file-supplied rays (no shading).
+    /// primary, random and file-supplied rays (no shading), and closest hits in
+    /// packets of 8 consecutive rays.
     Bench(bench::BenchArgs),
 }
 
