@@ -1,10 +1,11 @@
 //! BVH build, closest-hit and occlusion queries on generated SPD scenes
-//! (one primary ray per pixel centre at 256x256, single thread).
+//! (one primary ray per pixel centre at 256x256, single thread), and closest hits in
+//! packets of 8 consecutive rays.
 
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use nffrt::accel::Bvh;
+use nffrt::accel::{Bvh, PACKET};
 use nffrt::gen::SpdScene;
 use nffrt::geometry::build_geometry;
 use std::hint::black_box;
@@ -48,5 +49,28 @@ fn queries(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bvh_build, queries);
+fn packets(c: &mut Criterion) {
+    let mut group = c.benchmark_group("closest_hit_packet");
+    for (which, size) in SCENES {
+        let scene = common::scene(which, size);
+        let bvh = Bvh::new(build_geometry(&scene));
+        let rays = common::primary_rays(&scene, 256, 256);
+        group.throughput(Throughput::Elements(rays.len() as u64));
+        group.bench_function(which.name(), |b| {
+            let mut out = [None; PACKET];
+            b.iter(|| {
+                rays.chunks(PACKET)
+                    .map(|packet| {
+                        let out = &mut out[..packet.len()];
+                        bvh.closest_hit_packet(packet, f32::INFINITY, out);
+                        out.iter().filter(|h| h.is_some()).count()
+                    })
+                    .sum::<usize>()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bvh_build, queries, packets);
 criterion_main!(benches);
