@@ -23,13 +23,18 @@ fn bvh_build(c: &mut Criterion) {
     group.finish();
 }
 
+/// The BVH of a generated scene and its primary rays at 256x256.
+fn bvh_and_rays(which: SpdScene, size: u32) -> (Bvh, Vec<nffrt::math::Ray>) {
+    let scene = common::scene(which, size);
+    let rays = common::primary_rays(&scene, 256, 256);
+    (Bvh::new(build_geometry(&scene)), rays)
+}
+
 fn queries(c: &mut Criterion) {
     for (group_name, occlusion) in [("closest_hit", false), ("occluded", true)] {
         let mut group = c.benchmark_group(group_name);
         for (which, size) in SCENES {
-            let scene = common::scene(which, size);
-            let bvh = Bvh::new(build_geometry(&scene));
-            let rays = common::primary_rays(&scene, 256, 256);
+            let (bvh, rays) = bvh_and_rays(which, size);
             group.throughput(Throughput::Elements(rays.len() as u64));
             group.bench_function(which.name(), |b| {
                 b.iter(|| {
@@ -52,9 +57,7 @@ fn queries(c: &mut Criterion) {
 fn packets(c: &mut Criterion) {
     let mut group = c.benchmark_group("closest_hit_packet");
     for (which, size) in SCENES {
-        let scene = common::scene(which, size);
-        let bvh = Bvh::new(build_geometry(&scene));
-        let rays = common::primary_rays(&scene, 256, 256);
+        let (bvh, rays) = bvh_and_rays(which, size);
         group.throughput(Throughput::Elements(rays.len() as u64));
         group.bench_function(which.name(), |b| {
             let mut out = [None; PACKET];
