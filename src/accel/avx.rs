@@ -1,9 +1,10 @@
 //! AVX versions of the two traversal kernels, chosen at run time.
 //!
 //! The release build targets baseline x86_64 (SSE2), where `wide::f32x8` is two SSE
-//! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`] and
-//! [`Bvh::occluded`] run copies of themselves compiled for AVX2, whose eight-lane slab
-//! test is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
+//! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`],
+//! [`Bvh::occluded`] and [`Bvh::closest_hit_packet`] run copies of themselves compiled
+//! for AVX2, whose eight-lane slab test (and the packets' one-triangle-eight-rays
+//! test) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
 //! for operation and operand for operand (no fused multiply-add), so every answer and
 //! every image is bit-identical whichever version runs. `NFFRT_SIMD=portable` in the
@@ -16,12 +17,15 @@
 #![allow(unsafe_code)]
 
 use std::arch::x86_64::{
-    _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_extractf128_ps, _mm256_loadu_ps,
-    _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
-    _mm256_sub_ps, _mm_storeu_ps, _CMP_LE_OQ, _CMP_LT_OQ,
+    __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
+    _mm256_extractf128_ps, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
+    _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps, _mm256_sub_ps, _mm_storeu_ps, _CMP_GE_OQ,
+    _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use super::bvh::Bvh;
+use super::ray8::{Hits8, Ray8};
+use super::tri4::Tri4;
 use super::wide::{Node8, RayBoxes, SlabTest, WIDTH};
 use crate::geometry::Hit;
 use crate::math::Ray;
@@ -89,6 +93,84 @@ impl SlabTest for Avx {
         // SAFETY: `self` proves the CPU has AVX.
         unsafe { entries_avx(node, r, t_max, t_limit) }
     }
+
+    #[inline(always)]
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+        // SAFETY: as in `entries`.
+        unsafe { hits8_avx(block, lane, rays, limits) }
+    }
+}
+
+/// Eight lanes as an AVX register.
+#[target_feature(enable = "avx")]
+#[inline]
+fn load8(lanes: &[f32; 8]) -> __m256 {
+    // SAFETY: `lanes` holds eight f32, the width of one load.
+    unsafe { _mm256_loadu_ps(lanes.as_ptr()) }
+}
+
+/// An AVX register as eight lanes.
+#[target_feature(enable = "avx")]
+#[inline]
+fn store8(v: __m256) -> [f32; 8] {
+    let mut lanes = [0.0f32; 8];
+    // SAFETY: `lanes` holds eight f32, the width of one store.
+    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), v) };
+    lanes
+}
+
+/// `Tri4::hits8` in AVX registers, operation for operation (`simd_ne` is the
+/// unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
+#[target_feature(enable = "avx")]
+fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+    let tri = |a: &[[f32; 4]; 3]| [0, 1, 2].map(|axis| _mm256_set1_ps(a[axis][lane]));
+    let (v0, e1, e2) = (tri(&block.v0), tri(&block.e1), tri(&block.e2));
+    let o = [
+        load8(&rays.origin[0]),
+        load8(&rays.origin[1]),
+        load8(&rays.origin[2]),
+    ];
+    let d = [load8(&rays.dir[0]), load8(&rays.dir[1]), load8(&rays.dir[2])];
+    let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
+    let cross = |a: &[__m256; 3], b: &[__m256; 3]| {
+        [
+            sub(mul(a[1], b[2]), mul(a[2], b[1])),
+            sub(mul(a[2], b[0]), mul(a[0], b[2])),
+            sub(mul(a[0], b[1]), mul(a[1], b[0])),
+        ]
+    };
+    let dot = |a: &[__m256; 3], b: &[__m256; 3]| add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
+    let p = cross(&d, &e2);
+    let det = dot(&e1, &p);
+    let one = _mm256_set1_ps(1.0);
+    let zero = _mm256_setzero_ps();
+    let inv_det = _mm256_div_ps(one, det);
+    let s = [sub(o[0], v0[0]), sub(o[1], v0[1]), sub(o[2], v0[2])];
+    let u = mul(dot(&s, &p), inv_det);
+    let q = cross(&s, &e1);
+    let v = mul(dot(&d, &q), inv_det);
+    let t = mul(dot(&e2, &q), inv_det);
+    let and = _mm256_and_ps;
+    let ok = and(
+        and(
+            and(
+                _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero),
+                _mm256_cmp_ps::<_CMP_GE_OQ>(u, zero),
+            ),
+            and(
+                _mm256_cmp_ps::<_CMP_LE_OQ>(u, one),
+                _mm256_cmp_ps::<_CMP_GE_OQ>(v, zero),
+            ),
+        ),
+        and(
+            and(
+                _mm256_cmp_ps::<_CMP_LE_OQ>(add(u, v), one),
+                _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
+            ),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(t, load8(limits)),
+        ),
+    );
+    (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
 }
 
 /// [`Node8::entries`] in AVX registers: the same operations on the same operands in
@@ -178,5 +260,29 @@ mod tests {
             }
         }
         assert!(entered > 200, "only {entered} boxes entered: too weak a test");
+    }
+
+    /// The AVX triangle test of eight rays gives the portable one's results bit for bit.
+    #[test]
+    fn avx_hits8_equals_the_portable_one_bit_for_bit() {
+        let Some(avx) = Avx::detect() else {
+            eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let (block, _, packets) = crate::accel::ray8::tests::cases();
+        for (rays, limits) in &packets {
+            let rays8 = Ray8::new(rays);
+            for lane in 0..4 {
+                let (pt, pu, pv, pm) = Portable.hits8(&block, lane, &rays8, limits);
+                let (at, au, av, am) = avx.hits8(&block, lane, &rays8, limits);
+                assert_eq!(pm, am);
+                for k in 0..8 {
+                    if pm & (1 << k) != 0 {
+                        let bits = |a: [f32; 8]| a[k].to_bits();
+                        assert_eq!((bits(pt), bits(pu), bits(pv)), (bits(at), bits(au), bits(av)));
+                    }
+                }
+            }
+        }
     }
 }

@@ -11,6 +11,7 @@ mod check;
 mod nearest;
 mod node;
 mod packet;
+mod ray8;
 mod tri4;
 mod wide;
 

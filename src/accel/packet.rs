@@ -11,8 +11,10 @@
 //! separate ways and the interval test would let every ray into every box any of them
 //! enters: 600 000 spheres, each a few pixels wide, ran at half the single-ray speed),
 //! each ray runs the slab test of [`Bvh::closest_hit`] and the walk follows the
-//! union. Leaves are tested ray by ray with the single-ray code, so every ray gets
-//! the nearest distance `closest_hit` gives it; only when two primitives tie at
+//! union. A triangle leaf entered by four rays or more has each triangle tested
+//! against all eight rays at once (`ray8.rs`), other leaves are tested ray by ray,
+//! always with the single-ray arithmetic, so every ray gets the nearest distance
+//! `closest_hit` gives it; only when two primitives tie at
 //! exactly that distance may the packet report the other one (it meets leaves in
 //! another order).
 
@@ -22,6 +24,7 @@ use wide::f32x8;
 
 use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
+use super::ray8::Ray8;
 use super::tri4::Ray4;
 use super::wide::{Node8, Portable, RayBoxes, SlabTest, WIDTH};
 use crate::geometry::Hit;
@@ -29,6 +32,10 @@ use crate::math::{Ray, TINY_DIR};
 
 /// Rays per packet.
 pub const PACKET: usize = 8;
+
+/// A triangle leaf entered by at least this many rays of a packet is tested against
+/// all of them at once (eight rays, one triangle) rather than ray by ray.
+const TOGETHER: u32 = 4;
 
 /// Boxes at least this many times the packet's footprint get the interval test.
 const COHERENCE: f32 = 0.5;
@@ -176,6 +183,7 @@ impl Bvh {
         let interval = Interval::of(rays);
         let boxes: [RayBoxes; PACKET] = std::array::from_fn(|k| RayBoxes::new(&rays[k.min(n - 1)]));
         let ray4: [Ray4; PACKET] = std::array::from_fn(|k| Ray4::new(&rays[k.min(n - 1)]));
+        let rays8 = Ray8::new(rays);
         PACKET_STACK.with_borrow_mut(|stack| {
             stack.clear();
             let mut index = 0u32;
@@ -242,6 +250,32 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
+                    if count & TRI4_LEAF != 0 && entering.count_ones() >= TOGETHER {
+                        // Each triangle against all the packet's rays at once.
+                        for block in &self.tri4[first..first + (count & !TRI4_LEAF)] {
+                            for (j, &prim) in block.prim.iter().enumerate() {
+                                if prim == u32::MAX {
+                                    break;
+                                }
+                                let limits = nearest.map(|n| n.limit);
+                                let (t, u, v, hit) = slabs.hits8(block, j, &rays8, &limits);
+                                let mut each = hit & entering;
+                                while each != 0 {
+                                    let k = each.trailing_zeros() as usize;
+                                    each &= each - 1;
+                                    nearest[k].offer(
+                                        Hit {
+                                            t: t[k],
+                                            u: u[k],
+                                            v: v[k],
+                                        },
+                                        prim,
+                                    );
+                                }
+                            }
+                        }
+                        continue;
+                    }
                     let mut each = entering;
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;

@@ -21,9 +21,9 @@ pub const LANES: usize = 4;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
 pub struct Tri4 {
-    v0: [[f32; LANES]; 3],
-    e1: [[f32; LANES]; 3],
-    e2: [[f32; LANES]; 3],
+    pub(super) v0: [[f32; LANES]; 3],
+    pub(super) e1: [[f32; LANES]; 3],
+    pub(super) e2: [[f32; LANES]; 3],
     /// Primitive index of each lane in the BVH's primitive array.
     pub prim: [u32; LANES],
 }

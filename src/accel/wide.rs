@@ -12,6 +12,8 @@
 use wide::f32x8;
 
 use super::node::BvhNode;
+use super::ray8::{Hits8, Ray8};
+use super::tri4::Tri4;
 use crate::math::{Ray, TINY_DIR};
 
 /// Lanes per wide node.
@@ -108,6 +110,8 @@ impl Node8 {
 pub trait SlabTest: Copy {
     /// As [`Node8::entries`].
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
+    /// As `Tri4::hits8` (one triangle against eight rays).
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8;
 }
 
 /// [`Node8::entries`] as the `wide` crate compiles it for the build target.
@@ -118,6 +122,11 @@ impl SlabTest for Portable {
     #[inline(always)]
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         node.entries(r, t_max, t_limit)
+    }
+
+    #[inline(always)]
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+        block.hits8(lane, rays, limits)
     }
 }
 

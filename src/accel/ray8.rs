@@ -1,0 +1,167 @@
+//! Eight rays in structure-of-arrays form, tested together against one triangle of a
+//! [`Tri4`] block: the leaf test of a packet.
+//!
+//! Each (ray, triangle) pair goes through exactly the arithmetic of the 4-lane
+//! [`Tri4`] test (same operations in the same order, no fused multiply-add), so hits,
+//! distances and barycentrics are bit-identical to what the ray gets alone.
+
+use wide::f32x8;
+
+use super::tri4::{Tri4, LANES};
+use crate::math::Ray;
+
+/// Rays per [`Ray8`].
+pub const RAYS: usize = 8;
+
+/// Up to eight rays, `[axis][ray]` (missing rays repeat the last one).
+#[derive(Clone, Copy, Debug)]
+pub struct Ray8 {
+    /// Origins.
+    pub origin: [[f32; RAYS]; 3],
+    /// Directions.
+    pub dir: [[f32; RAYS]; 3],
+}
+
+impl Ray8 {
+    /// Packs one to eight rays.
+    pub fn new(rays: &[Ray]) -> Ray8 {
+        let n = rays.len();
+        assert!((1..=RAYS).contains(&n), "one to {RAYS} rays");
+        let mut r = Ray8 {
+            origin: [[0.0; RAYS]; 3],
+            dir: [[0.0; RAYS]; 3],
+        };
+        for k in 0..RAYS {
+            let ray = &rays[k.min(n - 1)];
+            for axis in 0..3 {
+                r.origin[axis][k] = ray.origin[axis];
+                r.dir[axis][k] = ray.dir[axis];
+            }
+        }
+        r
+    }
+}
+
+/// What a triangle test of eight rays returns: per ray the distance and barycentrics,
+/// and the rays that hit with `0 < t < limit` as bits.
+pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
+
+impl Tri4 {
+    /// Lane `lane`'s triangle against the eight rays of `rays`, each below its own
+    /// `limits[k]`, with the arithmetic of the 4-lane test (`Tri4::test`).
+    #[inline(always)]
+    pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
+        debug_assert!(lane < LANES);
+        let tri = |a: &[[f32; LANES]; 3]| [0, 1, 2].map(|axis| f32x8::splat(a[axis][lane]));
+        let (v0, e1, e2) = (tri(&self.v0), tri(&self.e1), tri(&self.e2));
+        let o = rays.origin.map(f32x8::from);
+        let d = rays.dir.map(f32x8::from);
+        let cross = |a: &[f32x8; 3], b: &[f32x8; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let p = cross(&d, &e2);
+        let det = dot(&e1, &p);
+        let inv_det = f32x8::ONE / det;
+        let s = [o[0] - v0[0], o[1] - v0[1], o[2] - v0[2]];
+        let u = dot(&s, &p) * inv_det;
+        let q = cross(&s, &e1);
+        let v = dot(&d, &q) * inv_det;
+        let t = dot(&e2, &q) * inv_det;
+        let (zero, one) = (f32x8::ZERO, f32x8::ONE);
+        let ok = det.simd_ne(zero)
+            & u.simd_ge(zero)
+            & u.simd_le(one)
+            & v.simd_ge(zero)
+            & (u + v).simd_le(one)
+            & t.simd_gt(zero)
+            & t.simd_lt(f32x8::from(*limits));
+        (t.to_array(), u.to_array(), v.to_array(), ok.to_bitmask())
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::geometry::Triangle;
+    use crate::math::Vec3;
+
+    /// Packets of rays, each with its rays' limits.
+    pub(crate) type Packets = Vec<(Vec<Ray>, [f32; RAYS])>;
+
+    /// Rays from around the origin towards +z against four triangles at various
+    /// depths and sizes (one edge-on to some rays), several packets and limits.
+    pub(crate) fn cases() -> (Tri4, [Triangle; 4], Packets) {
+        let tris = [
+            Triangle::new(
+                Vec3::new(-1.0, -1.0, 3.0),
+                Vec3::new(1.0, -1.0, 3.0),
+                Vec3::new(0.0, 1.0, 3.0),
+                Triangle::FLAT,
+            ),
+            Triangle::new(
+                Vec3::new(-0.5, -0.5, 2.0),
+                Vec3::new(0.5, -0.5, 2.5),
+                Vec3::new(0.0, 0.5, 2.0),
+                Triangle::FLAT,
+            ),
+            Triangle::new(
+                Vec3::new(-4.0, -4.0, 5.0),
+                Vec3::new(4.0, -4.0, 5.0),
+                Vec3::new(0.0, 4.0, 5.0),
+                Triangle::FLAT,
+            ),
+            Triangle::new(
+                Vec3::new(0.0, -1.0, 1.0),
+                Vec3::new(0.0, 1.0, 1.0),
+                Vec3::new(0.0, 0.0, 4.0),
+                Triangle::FLAT,
+            ),
+        ];
+        let block = Tri4::new(&[(tris[0], 0), (tris[1], 1), (tris[2], 2), (tris[3], 3)]);
+        let mut packets = Vec::new();
+        for p in 0..60 {
+            let rays: Vec<Ray> = (0..RAYS)
+                .map(|k| {
+                    let (x, y) = (
+                        (k as f32 - 3.5) * 0.13 + p as f32 * 0.011,
+                        (p % 9) as f32 * 0.2 - 0.8,
+                    );
+                    let o = Vec3::new(0.0, 0.0, -1.0 + (p % 3) as f32);
+                    Ray::new(o, Vec3::new(x, y, 1.0).normalize())
+                })
+                .collect();
+            let limits = std::array::from_fn(|k| [f32::INFINITY, 4.0, 2.2][(k + p) % 3]);
+            packets.push((rays, limits));
+        }
+        (block, tris, packets)
+    }
+
+    #[test]
+    fn each_ray_gets_the_scalar_test_bit_for_bit() {
+        let (block, tris, packets) = cases();
+        let mut hits = 0;
+        for (rays, limits) in &packets {
+            let rays8 = Ray8::new(rays);
+            for (lane, tri) in tris.iter().enumerate() {
+                let (t, u, v, mask) = block.hits8(lane, &rays8, limits);
+                for (k, r) in rays.iter().enumerate() {
+                    let want = tri.intersect(r, limits[k]);
+                    assert_eq!(mask & (1 << k) != 0, want.is_some(), "lane {lane} ray {k}");
+                    if let Some(h) = want {
+                        assert_eq!(
+                            (t[k].to_bits(), u[k].to_bits(), v[k].to_bits()),
+                            (h.t.to_bits(), h.u.to_bits(), h.v.to_bits())
+                        );
+                        hits += 1;
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits} hits: too few to test the lanes");
+    }
+}
