@@ -12,21 +12,21 @@
 //!
 //! This is the crate's only `unsafe` code: calling functions compiled for a CPU
 //! feature, which is sound because an [`Avx`] value exists only once the features
-//! have been detected, and the slab test's loads and stores, which stay within
-//! arrays of exactly their width.
+//! have been detected, and the loads and stores of `load8`/`store8`, which stay
+//! within arrays of exactly their width.
 #![allow(unsafe_code)]
 
 use std::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
     _mm256_extractf128_ps, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
-    _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps, _mm256_sub_ps, _mm_storeu_ps, _CMP_GE_OQ,
-    _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps, _mm_storeu_ps, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ,
+    _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use super::bvh::Bvh;
-use super::ray8::{Hits8, Ray8};
+use super::ray8::{Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
-use super::wide::{Node8, RayBoxes, SlabTest, WIDTH};
+use super::wide::{Kernels, Node8, RayBoxes, WIDTH};
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -87,7 +87,7 @@ fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
     bvh.occluder_with(avx, ray, t_max)
 }
 
-impl SlabTest for Avx {
+impl Kernels for Avx {
     #[inline(always)]
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         // SAFETY: `self` proves the CPU has AVX.
@@ -95,7 +95,7 @@ impl SlabTest for Avx {
     }
 
     #[inline(always)]
-    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         // SAFETY: as in `entries`.
         unsafe { hits8_avx(block, lane, rays, limits) }
     }
@@ -109,20 +109,25 @@ fn load8(lanes: &[f32; 8]) -> __m256 {
     unsafe { _mm256_loadu_ps(lanes.as_ptr()) }
 }
 
-/// An AVX register as eight lanes.
+/// An AVX register as eight lanes, by two 128-bit stores: the single-lane loads that
+/// follow are forwarded from them (not always from the upper half of a 256-bit store).
 #[target_feature(enable = "avx")]
 #[inline]
 fn store8(v: __m256) -> [f32; 8] {
     let mut lanes = [0.0f32; 8];
-    // SAFETY: `lanes` holds eight f32, the width of one store.
-    unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), v) };
+    let (low, high) = lanes.split_at_mut(4);
+    // SAFETY: `low` and `high` hold four f32 each, the width of one store.
+    unsafe {
+        _mm_storeu_ps(low.as_mut_ptr(), _mm256_castps256_ps128(v));
+        _mm_storeu_ps(high.as_mut_ptr(), _mm256_extractf128_ps::<1>(v));
+    }
     lanes
 }
 
 /// `Tri4::hits8` in AVX registers, operation for operation (`simd_ne` is the
 /// unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
 #[target_feature(enable = "avx")]
-fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
     let tri = |a: &[[f32; 4]; 3]| [0, 1, 2].map(|axis| _mm256_set1_ps(a[axis][lane]));
     let (v0, e1, e2) = (tri(&block.v0), tri(&block.e1), tri(&block.e2));
     let o = [
@@ -189,8 +194,7 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
         };
         let origin = _mm256_set1_ps(r.origin[axis]);
         let inv = _mm256_set1_ps(r.inv[axis]);
-        // SAFETY: `lo` and `hi` are arrays of eight f32, the width of one load.
-        let (lo, hi) = unsafe { (_mm256_loadu_ps(lo.as_ptr()), _mm256_loadu_ps(hi.as_ptr())) };
+        let (lo, hi) = (load8(lo), load8(hi));
         near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(lo, origin), inv), near);
         far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(hi, origin), inv), far);
     }
@@ -198,16 +202,7 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
         _mm256_cmp_ps::<_CMP_LE_OQ>(near, far),
         _mm256_cmp_ps::<_CMP_LT_OQ>(near, _mm256_set1_ps(t_limit)),
     );
-    // Two 128-bit stores: the single-lane loads that follow are forwarded from them
-    // (not always from the upper half of a 256-bit store).
-    let mut entry = [0.0f32; WIDTH];
-    let (low, high) = entry.split_at_mut(4);
-    // SAFETY: `low` and `high` hold four f32 each, the width of one store.
-    unsafe {
-        _mm_storeu_ps(low.as_mut_ptr(), _mm256_castps256_ps128(near));
-        _mm_storeu_ps(high.as_mut_ptr(), _mm256_extractf128_ps::<1>(near));
-    }
-    (entry, _mm256_movemask_ps(hit) as u32)
+    (store8(near), _mm256_movemask_ps(hit) as u32)
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use super::avx::Avx;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::tri4::{Ray4, Tri4, LANES};
-use super::wide::{self, Node8, Portable, RayBoxes, SlabTest, WIDTH};
+use super::wide::{self, Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::Ray;
 
@@ -187,12 +187,12 @@ impl Bvh {
         self.closest_hit_with(Portable, ray, t_max)
     }
 
-    /// [`Bvh::closest_hit`] with the slab test `slabs` (inlined into each caller, so
+    /// [`Bvh::closest_hit`] with the slab test `kernels` (inlined into each caller, so
     /// that an AVX caller compiles all of it for AVX).
     #[inline(always)]
-    pub(super) fn closest_hit_with<S: SlabTest>(
+    pub(super) fn closest_hit_with<S: Kernels>(
         &self,
-        slabs: S,
+        kernels: S,
         ray: &Ray,
         t_max: f32,
     ) -> Option<(Hit, u32)> {
@@ -214,7 +214,7 @@ impl Bvh {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let limit = nearest.limit;
-                let (t, mut mask) = slabs.entries(node, &boxes, limit, limit);
+                let (t, mut mask) = kernels.entries(node, &boxes, limit, limit);
                 let mut inner = [(0u32, 0.0f32); WIDTH];
                 let mut n_inner = 0;
                 while mask != 0 {
@@ -226,25 +226,8 @@ impl Bvh {
                         n_inner += 1;
                         continue;
                     }
-                    if t[lane] >= nearest.limit {
-                        continue;
-                    }
-                    let first = node.child[lane] as usize;
-                    if count & TRI4_LEAF != 0 {
-                        let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-                        count!(PRIMS, blocks.len() * LANES);
-                        for block in blocks {
-                            if let Some((h, prim)) = block.closest_hit(&ray4, nearest.limit) {
-                                nearest.offer(h, prim);
-                            }
-                        }
-                        continue;
-                    }
-                    count!(PRIMS, count);
-                    for (k, p) in self.primitives[first..first + count].iter().enumerate() {
-                        if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
-                            nearest.offer(h, (first + k) as u32);
-                        }
+                    if t[lane] < nearest.limit {
+                        self.leaf_closest(node.child[lane] as usize, count, ray, &ray4, &mut nearest);
                     }
                 }
                 // Go straight on to the nearest child; push the others far to near so
@@ -253,7 +236,7 @@ impl Bvh {
                 sort_descending(inner);
                 let next = match inner.split_last() {
                     Some((&next, farther)) => {
-                        // Element by element: a slice copy of at most four entries
+                        // Element by element: a slice copy of at most seven entries
                         // would be a call to memmove.
                         for &entry in farther {
                             stack.push(entry);
@@ -279,6 +262,36 @@ impl Bvh {
             }
         });
         nearest.best
+    }
+
+    /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
+    /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
+    /// when marked [`TRI4_LEAF`], else primitives.
+    #[inline(always)]
+    pub(super) fn leaf_closest(
+        &self,
+        first: usize,
+        count: usize,
+        ray: &Ray,
+        ray4: &Ray4,
+        nearest: &mut Nearest,
+    ) {
+        if count & TRI4_LEAF != 0 {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            for block in blocks {
+                if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
+                    nearest.offer(h, prim);
+                }
+            }
+            return;
+        }
+        count!(PRIMS, count);
+        for (k, p) in self.primitives[first..first + count].iter().enumerate() {
+            if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
+                nearest.offer(h, (first + k) as u32);
+            }
+        }
     }
 
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
@@ -316,9 +329,9 @@ impl Bvh {
         self.occluder_with(Portable, ray, t_max)
     }
 
-    /// [`Bvh::occluder`] with the slab test `slabs` (see [`Bvh::closest_hit_with`]).
+    /// [`Bvh::occluder`] with the slab test `kernels` (see [`Bvh::closest_hit_with`]).
     #[inline(always)]
-    pub(super) fn occluder_with<S: SlabTest>(&self, slabs: S, ray: &Ray, t_max: f32) -> Option<u32> {
+    pub(super) fn occluder_with<S: Kernels>(&self, kernels: S, ray: &Ray, t_max: f32) -> Option<u32> {
         let unbounded = &self.primitives[self.bounded..];
         if let Some(i) = unbounded
             .iter()
@@ -337,7 +350,7 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let (_, mut mask) = slabs.entries(node, &boxes, t_max, f32::INFINITY);
+                let (_, mut mask) = kernels.entries(node, &boxes, t_max, f32::INFINITY);
                 let mut next = None;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;

@@ -26,7 +26,7 @@ use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
 use super::ray8::Ray8;
 use super::tri4::Ray4;
-use super::wide::{Node8, Portable, RayBoxes, SlabTest, WIDTH};
+use super::wide::{Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::Hit;
 use crate::math::{Ray, TINY_DIR};
 
@@ -146,11 +146,11 @@ impl Bvh {
         self.closest_hit_packet_with(Portable, rays, t_max, out)
     }
 
-    /// [`Bvh::closest_hit_packet`] with the slab test `slabs` (see `closest_hit_with`).
+    /// [`Bvh::closest_hit_packet`] with the slab test `kernels` (see `closest_hit_with`).
     #[inline(always)]
-    pub(super) fn closest_hit_packet_with<S: SlabTest>(
+    pub(super) fn closest_hit_packet_with<S: Kernels>(
         &self,
-        slabs: S,
+        kernels: S,
         rays: &[Ray],
         t_max: f32,
         out: &mut [Option<(Hit, u32)>],
@@ -168,7 +168,7 @@ impl Bvh {
             }
         }
         if !self.wide.is_empty() && n > 0 {
-            self.walk_packet(slabs, rays, &mut nearest);
+            self.walk_packet(kernels, rays, &mut nearest);
         }
         for (o, near) in out.iter_mut().zip(&nearest) {
             *o = near.best;
@@ -178,7 +178,7 @@ impl Bvh {
     /// The tree walk of [`Bvh::closest_hit_packet`] for `rays` (one to [`PACKET`]),
     /// improving `nearest[k]` for ray `k`.
     #[inline(always)]
-    fn walk_packet<S: SlabTest>(&self, slabs: S, rays: &[Ray], nearest: &mut [Nearest; PACKET]) {
+    fn walk_packet<S: Kernels>(&self, kernels: S, rays: &[Ray], nearest: &mut [Nearest; PACKET]) {
         let n = rays.len();
         let interval = Interval::of(rays);
         let boxes: [RayBoxes; PACKET] = std::array::from_fn(|k| RayBoxes::new(&rays[k.min(n - 1)]));
@@ -210,12 +210,13 @@ impl Bvh {
                         lane_near[lane] = near[lane];
                     }
                 }
-                let mut left = if interval.is_some() && coherent { 0 } else { active };
+                // (`coherent` holds only with an interval.)
+                let mut left = if coherent { 0 } else { active };
                 while left != 0 {
                     let k = left.trailing_zeros() as usize;
                     left &= left - 1;
                     let limit = nearest[k].limit;
-                    let (t, mut mask) = slabs.entries(node, &boxes[k], limit, limit);
+                    let (t, mut mask) = kernels.entries(node, &boxes[k], limit, limit);
                     while mask != 0 {
                         let lane = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
@@ -258,7 +259,7 @@ impl Bvh {
                                     break;
                                 }
                                 let limits = nearest.map(|n| n.limit);
-                                let (t, u, v, hit) = slabs.hits8(block, j, &rays8, &limits);
+                                let (t, u, v, hit) = kernels.hits8(block, j, &rays8, &limits);
                                 let mut each = hit & entering;
                                 while each != 0 {
                                     let k = each.trailing_zeros() as usize;
@@ -280,19 +281,7 @@ impl Bvh {
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        if count & TRI4_LEAF != 0 {
-                            for block in &self.tri4[first..first + (count & !TRI4_LEAF)] {
-                                if let Some((h, prim)) = block.closest_hit(&ray4[k], nearest[k].limit) {
-                                    nearest[k].offer(h, prim);
-                                }
-                            }
-                            continue;
-                        }
-                        for (j, p) in self.primitives[first..first + count].iter().enumerate() {
-                            if let Some(h) = p.intersect(&rays[k], nearest[k].limit, &self.data) {
-                                nearest[k].offer(h, (first + j) as u32);
-                            }
-                        }
+                        self.leaf_closest(first, count, &rays[k], &ray4[k], &mut nearest[k]);
                     }
                 }
                 // Nearest child next, the others stacked far to near.

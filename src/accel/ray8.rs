@@ -7,7 +7,7 @@
 
 use wide::f32x8;
 
-use super::tri4::{Tri4, LANES};
+use super::tri4::{moller_trumbore, Tri4, LANES};
 use crate::math::Ray;
 
 /// Rays per [`Ray8`].
@@ -53,25 +53,14 @@ impl Tri4 {
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
         let tri = |a: &[[f32; LANES]; 3]| [0, 1, 2].map(|axis| f32x8::splat(a[axis][lane]));
-        let (v0, e1, e2) = (tri(&self.v0), tri(&self.e1), tri(&self.e2));
-        let o = rays.origin.map(f32x8::from);
-        let d = rays.dir.map(f32x8::from);
-        let cross = |a: &[f32x8; 3], b: &[f32x8; 3]| {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
-        };
-        let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        let p = cross(&d, &e2);
-        let det = dot(&e1, &p);
-        let inv_det = f32x8::ONE / det;
-        let s = [o[0] - v0[0], o[1] - v0[1], o[2] - v0[2]];
-        let u = dot(&s, &p) * inv_det;
-        let q = cross(&s, &e1);
-        let v = dot(&d, &q) * inv_det;
-        let t = dot(&e2, &q) * inv_det;
+        let [det, t, u, v] = moller_trumbore(
+            &rays.origin.map(f32x8::from),
+            &rays.dir.map(f32x8::from),
+            &tri(&self.v0),
+            &tri(&self.e1),
+            &tri(&self.e2),
+            f32x8::ONE,
+        );
         let (zero, one) = (f32x8::ZERO, f32x8::ONE);
         let ok = det.simd_ne(zero)
             & u.simd_ge(zero)

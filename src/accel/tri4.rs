@@ -7,6 +7,8 @@
 //! bit-identical to the scalar test's, and ties go to the lowest lane as they go to
 //! the first primitive in the scalar loop.
 
+use std::ops::{Add, Div, Mul, Sub};
+
 use wide::f32x4;
 
 use crate::geometry::{Hit, Triangle};
@@ -56,7 +58,7 @@ fn load(a: &[f32; LANES]) -> f32x4 {
 
 /// `a × b` per lane, component order as in `Vec3::cross`.
 #[inline(always)]
-fn cross(a: &[f32x4; 3], b: &[f32x4; 3]) -> [f32x4; 3] {
+fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -66,8 +68,34 @@ fn cross(a: &[f32x4; 3], b: &[f32x4; 3]) -> [f32x4; 3] {
 
 /// `a · b` per lane, summed left to right as in `Vec3::dot`.
 #[inline(always)]
-fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
+fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Möller–Trumbore on SIMD lanes (a vector of rays or of triangles), with the
+/// operations of `Triangle::intersect` in their order: `(det, t, u, v)`, the hit
+/// still to be accepted (`det ≠ 0`, `u, v ≥ 0`, `u + v ≤ 1`, `0 < t < t_max`).
+#[inline(always)]
+pub(super) fn moller_trumbore<T>(
+    origin: &[T; 3],
+    dir: &[T; 3],
+    v0: &[T; 3],
+    e1: &[T; 3],
+    e2: &[T; 3],
+    one: T,
+) -> [T; 4]
+where
+    T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Div<Output = T>,
+{
+    let p = cross(dir, e2);
+    let det = dot(e1, &p);
+    let inv_det = one / det;
+    let s = [origin[0] - v0[0], origin[1] - v0[1], origin[2] - v0[2]];
+    let u = dot(&s, &p) * inv_det;
+    let q = cross(&s, e1);
+    let v = dot(dir, &q) * inv_det;
+    let t = dot(e2, &q) * inv_det;
+    [det, t, u, v]
 }
 
 impl Tri4 {
@@ -103,20 +131,14 @@ impl Tri4 {
     /// `0 < t < t_max`.
     #[inline(always)]
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
-        let e1 = [load(&self.e1[0]), load(&self.e1[1]), load(&self.e1[2])];
-        let e2 = [load(&self.e2[0]), load(&self.e2[1]), load(&self.e2[2])];
-        let p = cross(&ray.dir, &e2);
-        let det = dot(&e1, &p);
-        let inv_det = f32x4::ONE / det;
-        let s = [
-            ray.origin[0] - load(&self.v0[0]),
-            ray.origin[1] - load(&self.v0[1]),
-            ray.origin[2] - load(&self.v0[2]),
-        ];
-        let u = dot(&s, &p) * inv_det;
-        let q = cross(&s, &e1);
-        let v = dot(&ray.dir, &q) * inv_det;
-        let t = dot(&e2, &q) * inv_det;
+        let [det, t, u, v] = moller_trumbore(
+            &ray.origin,
+            &ray.dir,
+            &self.v0.map(|a| load(&a)),
+            &self.e1.map(|a| load(&a)),
+            &self.e2.map(|a| load(&a)),
+            f32x4::ONE,
+        );
         let zero = f32x4::ZERO;
         let one = f32x4::ONE;
         // Comparisons with a NaN are false, so NaN lanes drop out as in the scalar test.

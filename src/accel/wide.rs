@@ -2,8 +2,8 @@
 //!
 //! Each [`Node8`] holds its eight children's boxes in structure-of-arrays form, so one
 //! slab test over eight lanes compiles to packed SIMD instructions (`wide::f32x8`: two
-//! SSE registers on the x86_64 baseline, one AVX register when built for a CPU with
-//! it; no `unsafe`). Eight lanes rather than four halve the levels a ray descends,
+//! SSE registers on the x86_64 baseline; `accel::avx` has the same test in one AVX
+//! register, chosen at run time). Eight lanes rather than four halve the levels a ray descends,
 //! each a dependent memory access: on this project's benchmarks that made random rays
 //! 8 to 14 % faster (BENCHMARKS.md). Collapsing repeatedly opens the child with the
 //! largest surface area, the usual greedy rule (Wald et al. 2008, "Getting rid of
@@ -12,7 +12,7 @@
 use wide::f32x8;
 
 use super::node::BvhNode;
-use super::ray8::{Hits8, Ray8};
+use super::ray8::{Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
 use crate::math::{Ray, TINY_DIR};
 
@@ -104,28 +104,29 @@ impl Node8 {
     }
 }
 
-/// A slab test of one ray against the eight boxes of a node: [`Portable`] on any
-/// CPU, or the AVX one (`accel::avx`) with the very same arithmetic. The traversal
-/// kernels are generic over it so that each instruction set gets its own copy.
-pub trait SlabTest: Copy {
+/// The SIMD kernels of traversal (a ray against a node's eight boxes, a triangle
+/// against eight rays): [`Portable`] on any CPU, or the AVX ones (`accel::avx`) with
+/// the very same arithmetic. The traversal functions are generic over them so that
+/// each instruction set gets its own copy.
+pub trait Kernels: Copy {
     /// As [`Node8::entries`].
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
     /// As `Tri4::hits8` (one triangle against eight rays).
-    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8;
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8;
 }
 
-/// [`Node8::entries`] as the `wide` crate compiles it for the build target.
+/// The kernels as the `wide` crate compiles them for the build target.
 #[derive(Clone, Copy, Debug)]
 pub struct Portable;
 
-impl SlabTest for Portable {
+impl Kernels for Portable {
     #[inline(always)]
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         node.entries(r, t_max, t_limit)
     }
 
     #[inline(always)]
-    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; 8]) -> Hits8 {
+    fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         block.hits8(lane, rays, limits)
     }
 }
