@@ -24,7 +24,7 @@ use wide::f32x8;
 
 use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
-use super::ray8::Ray8;
+use super::ray8::{Ray8, RAYS};
 use super::tri4::Ray4;
 use super::wide::{Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::Hit;
@@ -64,24 +64,32 @@ struct Interval {
 
 impl Interval {
     /// The interval of `rays`, if their directions agree in sign on every axis.
-    fn of(rays: &[Ray]) -> Option<Interval> {
+    #[inline(always)]
+    fn of(rays: &Ray8) -> Option<Interval> {
         let mut iv = Interval {
-            origin: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
-            inv: [[f32::INFINITY, f32::NEG_INFINITY]; 3],
+            origin: [[0.0; 2]; 3],
+            inv: [[0.0; 2]; 3],
             negative: [false; 3],
             spread: [0.0; 2],
         };
+        let range = |v: &[f32; RAYS]| {
+            let lo = v.iter().fold(f32::INFINITY, |a, &b| a.min(b));
+            let hi = v.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+            [lo, hi]
+        };
         for axis in 0..3 {
-            iv.negative[axis] = rays.first()?.inv_dir[axis] < 0.0;
-            for r in rays {
-                let (o, inv) = (r.origin[axis], r.inv_dir[axis]);
-                // Rays parallel to an axis take the ray-by-ray test (see `RayBoxes`).
-                if (inv < 0.0) != iv.negative[axis] || r.dir[axis].abs() < TINY_DIR {
-                    return None;
-                }
-                iv.origin[axis] = [iv.origin[axis][0].min(o), iv.origin[axis][1].max(o)];
-                iv.inv[axis] = [iv.inv[axis][0].min(inv), iv.inv[axis][1].max(inv)];
+            let negative = f32x8::from(rays.inv[axis]).simd_lt(f32x8::ZERO).to_bitmask();
+            // Rays parallel to an axis take the ray-by-ray test (see `RayBoxes`).
+            let parallel = f32x8::from(rays.dir[axis])
+                .abs()
+                .simd_lt(f32x8::splat(TINY_DIR))
+                .to_bitmask();
+            if (negative != 0 && negative != (1 << RAYS) - 1) || parallel != 0 {
+                return None;
             }
+            iv.negative[axis] = negative != 0;
+            iv.origin[axis] = range(&rays.origin[axis]);
+            iv.inv[axis] = range(&rays.inv[axis]);
             // The directions' range from the inverses' (same sign, so 1/x is monotonic).
             let [inv_lo, inv_hi] = iv.inv[axis];
             iv.spread[0] = iv.spread[0].max(iv.origin[axis][1] - iv.origin[axis][0]);
@@ -180,10 +188,12 @@ impl Bvh {
     #[inline(always)]
     fn walk_packet<S: Kernels>(&self, kernels: S, rays: &[Ray], nearest: &mut [Nearest; PACKET]) {
         let n = rays.len();
-        let interval = Interval::of(rays);
+        let rays8 = Ray8::new(rays);
+        let interval = Interval::of(&rays8);
         let boxes: [RayBoxes; PACKET] = std::array::from_fn(|k| RayBoxes::new(&rays[k.min(n - 1)]));
         let ray4: [Ray4; PACKET] = std::array::from_fn(|k| Ray4::new(&rays[k.min(n - 1)]));
-        let rays8 = Ray8::new(rays);
+        // Each ray's `nearest[k].limit`, side by side for the vector tests.
+        let mut limits = nearest.map(|n| n.limit);
         PACKET_STACK.with_borrow_mut(|stack| {
             stack.clear();
             let mut index = 0u32;
@@ -195,19 +205,16 @@ impl Bvh {
                 let mut lane_rays = [0u32; WIDTH];
                 let mut lane_near = [f32::INFINITY; WIDTH];
                 if let Some(iv) = interval.as_ref().filter(|_| coherent) {
-                    let mut t_limit = 0.0f32;
-                    let mut each = active;
-                    while each != 0 {
-                        let k = each.trailing_zeros() as usize;
-                        each &= each - 1;
-                        t_limit = t_limit.max(nearest[k].limit);
-                    }
+                    let t_limit = (0..PACKET)
+                        .filter(|k| active & (1 << k) != 0)
+                        .fold(0.0f32, |t, k| t.max(limits[k]));
                     let (near, mut mask) = iv.entries(node, t_limit);
+                    // (Read only in the lanes entered.)
+                    lane_near = near;
                     while mask != 0 {
                         let lane = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
                         lane_rays[lane] = active;
-                        lane_near[lane] = near[lane];
                     }
                 }
                 // (`coherent` holds only with an interval.)
@@ -215,7 +222,7 @@ impl Bvh {
                 while left != 0 {
                     let k = left.trailing_zeros() as usize;
                     left &= left - 1;
-                    let limit = nearest[k].limit;
+                    let limit = limits[k];
                     let (t, mut mask) = kernels.entries(node, &boxes[k], limit, limit);
                     while mask != 0 {
                         let lane = mask.trailing_zeros() as usize;
@@ -258,7 +265,6 @@ impl Bvh {
                                 if prim == u32::MAX {
                                     break;
                                 }
-                                let limits = nearest.map(|n| n.limit);
                                 let (t, u, v, hit) = kernels.hits8(block, j, &rays8, &limits);
                                 let mut each = hit & entering;
                                 while each != 0 {
@@ -272,6 +278,7 @@ impl Bvh {
                                         },
                                         prim,
                                     );
+                                    limits[k] = nearest[k].limit;
                                 }
                             }
                         }
@@ -282,6 +289,7 @@ impl Bvh {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
                         self.leaf_closest(first, count, &rays[k], &ray4[k], &mut nearest[k]);
+                        limits[k] = nearest[k].limit;
                     }
                 }
                 // Nearest child next, the others stacked far to near.
@@ -303,18 +311,8 @@ impl Bvh {
                 }
                 // A child is worth entering while one of its rays has found nothing
                 // nearer than the child's nearest entry.
-                let useful = |e: &Entry| {
-                    let mut rays = e.rays;
-                    let mut any = 0;
-                    while rays != 0 {
-                        let k = rays.trailing_zeros() as usize;
-                        rays &= rays - 1;
-                        if e.near < nearest[k].limit {
-                            any |= 1 << k;
-                        }
-                    }
-                    any
-                };
+                let useful =
+                    |e: &Entry| e.rays & f32x8::splat(e.near).simd_lt(f32x8::from(limits)).to_bitmask();
                 let mut found = next.map(|e| (e, useful(&e))).filter(|&(_, r)| r != 0);
                 while found.is_none() {
                     let Some(e) = stack.pop() else { return };

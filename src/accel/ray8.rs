@@ -20,22 +20,27 @@ pub struct Ray8 {
     pub origin: [[f32; RAYS]; 3],
     /// Directions.
     pub dir: [[f32; RAYS]; 3],
+    /// Inverse directions (`Ray::inv_dir`).
+    pub inv: [[f32; RAYS]; 3],
 }
 
 impl Ray8 {
     /// Packs one to eight rays.
+    #[inline(always)]
     pub fn new(rays: &[Ray]) -> Ray8 {
         let n = rays.len();
         assert!((1..=RAYS).contains(&n), "one to {RAYS} rays");
         let mut r = Ray8 {
             origin: [[0.0; RAYS]; 3],
             dir: [[0.0; RAYS]; 3],
+            inv: [[0.0; RAYS]; 3],
         };
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
             for axis in 0..3 {
                 r.origin[axis][k] = ray.origin[axis];
                 r.dir[axis][k] = ray.dir[axis];
+                r.inv[axis][k] = ray.inv_dir[axis];
             }
         }
         r
