@@ -214,36 +214,51 @@ impl Bvh {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let limit = nearest.limit;
-                let (t, mut mask) = kernels.entries(node, &boxes, limit, limit);
-                let mut inner = [(0u32, 0.0f32); WIDTH];
-                let mut n_inner = 0;
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let count = node.count[lane] as usize;
-                    if count == 0 {
-                        inner[n_inner] = (node.child[lane], t[lane]);
-                        n_inner += 1;
-                        continue;
-                    }
+                let (t, mask) = kernels.entries(node, &boxes, limit, limit);
+                let leaves = mask & node.leaf_lanes();
+                let mut each = leaves;
+                while each != 0 {
+                    let lane = each.trailing_zeros() as usize;
+                    each &= each - 1;
                     if t[lane] < nearest.limit {
+                        let count = node.count[lane] as usize;
                         self.leaf_closest(node.child[lane] as usize, count, ray, &ray4, &mut nearest);
                     }
                 }
-                // Go straight on to the nearest child; push the others far to near so
-                // that the nearer ones are popped first.
-                let inner = &mut inner[..n_inner];
-                sort_descending(inner);
-                let next = match inner.split_last() {
-                    Some((&next, farther)) => {
-                        // Element by element: a slice copy of at most seven entries
-                        // would be a call to memmove.
-                        for &entry in farther {
-                            stack.push(entry);
+                // Go straight on to the nearest child; stack the others so that the
+                // nearer ones are popped first. One or two children (the common cases)
+                // need no sort.
+                let mut inner = mask & !leaves;
+                let child = |lane: u32| (node.child[lane as usize], t[lane as usize]);
+                let next = if inner == 0 {
+                    None
+                } else {
+                    let a = inner.trailing_zeros();
+                    inner &= inner - 1;
+                    if inner == 0 {
+                        Some(child(a))
+                    } else {
+                        let b = inner.trailing_zeros();
+                        inner &= inner - 1;
+                        let (near, far) = if t[b as usize] < t[a as usize] {
+                            (b, a)
+                        } else {
+                            (a, b)
+                        };
+                        stack.push(child(far));
+                        if inner == 0 {
+                            Some(child(near))
+                        } else {
+                            let base = stack.len() - 1;
+                            stack.push(child(near));
+                            while inner != 0 {
+                                stack.push(child(inner.trailing_zeros()));
+                                inner &= inner - 1;
+                            }
+                            sort_descending(&mut stack[base..]);
+                            stack.pop()
                         }
-                        Some(next)
                     }
-                    None => None,
                 };
                 // A leaf just tested may have moved the limit in front of a child.
                 match next.filter(|&(_, t)| t < nearest.limit) {

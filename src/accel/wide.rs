@@ -9,7 +9,7 @@
 //! largest surface area, the usual greedy rule (Wald et al. 2008, "Getting rid of
 //! packets").
 
-use wide::f32x8;
+use wide::{f32x8, u32x8, CmpEq};
 
 use super::node::BvhNode;
 use super::ray8::{Hits8, Ray8, RAYS};
@@ -78,6 +78,12 @@ impl RayBoxes {
 }
 
 impl Node8 {
+    /// The lanes holding leaves, as bits.
+    #[inline(always)]
+    pub fn leaf_lanes(&self) -> u32 {
+        !u32x8::from(self.count).simd_eq(u32x8::ZERO).to_bitmask() & ((1 << WIDTH) - 1)
+    }
+
     /// Entry distance of `ray` into each lane's box within `[0, t_max]`, and a mask
     /// with bit `i` set when lane `i` is entered before `t_limit` (misses and empty
     /// lanes have no bit).
