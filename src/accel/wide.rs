@@ -9,7 +9,7 @@
 //! largest surface area, the usual greedy rule (Wald et al. 2008, "Getting rid of
 //! packets").
 
-use wide::{f32x8, u32x8, CmpEq};
+use wide::{f32x8, u32x8};
 
 use super::node::BvhNode;
 use super::ray8::{Hits8, Ray8, RAYS};
