@@ -3,11 +3,12 @@
 //!
 //! Every min/max here is `fast_min`/`fast_max` (`a < b ? a : b`), exactly the scalar
 //! [`Aabb::union`]: lane by lane the results are bit-identical to folding `Aabb`s.
-//! Lane 3 is scratch (an item keeps its index there, and whether it is packable) and
+//! Lane 3 is scratch (an item keeps its index there, and its kind of block) and
 //! never read as a coordinate.
 
 use wide::{f32x4, i32x4};
 
+use super::build::{Pack, Packs};
 use crate::math::{Aabb, Vec3};
 
 /// Bins per axis for the SAH sweep.
@@ -21,8 +22,8 @@ const XYZ: f32x4 = f32x4::new([
     0.0,
 ]);
 
-/// One primitive to place: its box, with its input index in lane 3 of `min` and 1 in
-/// lane 3 of `max` if it is packable (tested four at a time; see `build`), else 0.
+/// One primitive to place: its box, with its input index in lane 3 of `min` and its
+/// kind of block ([`Pack`] as a number) in lane 3 of `max`.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub struct Item {
@@ -43,12 +44,12 @@ fn clean(v: Vec3, nan: f32) -> [f32; 3] {
 impl Item {
     /// The record of primitive `index` with box `b`.
     #[inline]
-    pub fn new(b: &Aabb, index: u32, packable: bool) -> Item {
+    pub fn new(b: &Aabb, index: u32, pack: Pack) -> Item {
         let [x0, y0, z0] = clean(b.min, f32::NEG_INFINITY);
         let [x1, y1, z1] = clean(b.max, f32::INFINITY);
         Item {
             min: f32x4::new([x0, y0, z0, f32::from_bits(index)]),
-            max: f32x4::new([x1, y1, z1, f32::from_bits(u32::from(packable))]),
+            max: f32x4::new([x1, y1, z1, f32::from_bits(pack as u32)]),
         }
     }
 
@@ -58,10 +59,14 @@ impl Item {
         self.min.to_array()[3].to_bits()
     }
 
-    /// 1 if the primitive is packable, else 0.
+    /// The primitive's kind of block.
     #[inline]
-    pub fn packable(&self) -> u32 {
-        self.max.to_array()[3].to_bits()
+    pub fn pack(&self) -> Pack {
+        match self.max.to_array()[3].to_bits() {
+            1 => Pack::Triangle,
+            2 => Pack::Sphere,
+            _ => Pack::Alone,
+        }
     }
 
     /// The box's centre, `(min + max) * 0.5` as [`Aabb::centroid`] computes it.
@@ -168,8 +173,8 @@ pub struct Bins {
     pub bounds: [[Box4; BINS]; 3],
     /// `count[axis][bin]`.
     pub count: [[u32; BINS]; 3],
-    /// `packable[axis][bin]`: how many of the bin's items are packable.
-    pub packable: [[u32; BINS]; 3],
+    /// `packs[axis][bin]`: how many of the bin's items pack in each kind of block.
+    pub packs: [[Packs; BINS]; 3],
 }
 
 impl Bins {
@@ -178,7 +183,7 @@ impl Bins {
         Box::new(Bins {
             bounds: [[Box4::EMPTY; BINS]; 3],
             count: [[0; BINS]; 3],
-            packable: [[0; BINS]; 3],
+            packs: [[Packs::default(); BINS]; 3],
         })
     }
 
@@ -187,12 +192,12 @@ impl Bins {
     pub fn fill(&mut self, items: &[Item], binner: &Binner) {
         for it in items {
             let b = binner.bins(it.centroid());
-            let packable = it.packable();
+            let packs = Packs::one(it.pack());
             for (axis, &bin) in b[..3].iter().enumerate() {
                 let bin = bin as usize & (BINS - 1);
                 self.bounds[axis][bin].add(it);
                 self.count[axis][bin] += 1;
-                self.packable[axis][bin] += packable;
+                self.packs[axis][bin].add(packs);
             }
         }
     }
@@ -202,6 +207,6 @@ impl Bins {
     pub fn clear(&mut self, axis: usize, bin: usize) {
         self.bounds[axis][bin] = Box4::EMPTY;
         self.count[axis][bin] = 0;
-        self.packable[axis][bin] = 0;
+        self.packs[axis][bin] = Packs::default();
     }
 }

@@ -14,10 +14,11 @@ use super::node::BvhNode;
 use crate::math::Aabb;
 
 /// Relative cost of one traversal step against one primitive test (or one test of a
-/// block of [`BLOCK`] packable primitives).
+/// block of [`BLOCK`] primitives).
 const TRAVERSAL_COST: f32 = 1.0;
-/// Packable primitives (triangles) are tested this many at a time, so a leaf of them
-/// costs one test per started block of this size rather than one per primitive.
+/// Packable primitives (triangles, spheres) are tested this many at a time, so a leaf
+/// of one kind of them costs one test per started block of this size rather than one
+/// per primitive.
 pub const BLOCK: u32 = 4;
 /// Leaves never exceed this many primitives unless their centroids coincide.
 pub const MAX_LEAF: usize = 8;
@@ -37,33 +38,74 @@ pub struct Built {
     pub depth: u32,
 }
 
-/// SAH cost of intersecting a leaf of `n` primitives of which `unpackable` cannot
-/// share a block: a leaf of packable primitives alone is tested a block at a time.
+/// The kind of block a primitive can share with others of its kind, [`BLOCK`] to a
+/// block tested at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Pack {
+    /// Tested on its own.
+    Alone = 0,
+    /// In a block of triangles.
+    Triangle = 1,
+    /// In a block of spheres.
+    Sphere = 2,
+}
+
+/// How many primitives of a set pack in each kind of block.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Packs {
+    /// Primitives that pack with triangles.
+    pub triangles: u32,
+    /// Primitives that pack with spheres.
+    pub spheres: u32,
+}
+
+impl Packs {
+    /// The counts of one primitive of kind `pack`.
+    #[inline]
+    pub fn one(pack: Pack) -> Packs {
+        Packs {
+            triangles: u32::from(pack == Pack::Triangle),
+            spheres: u32::from(pack == Pack::Sphere),
+        }
+    }
+
+    /// Adds `other`'s counts.
+    #[inline]
+    pub fn add(&mut self, other: Packs) {
+        self.triangles += other.triangles;
+        self.spheres += other.spheres;
+    }
+}
+
+/// SAH cost of intersecting a leaf of `n` primitives with `packs` among them: a leaf
+/// made only of primitives of one kind of block is tested a block at a time, any
+/// other leaf a primitive at a time.
 #[inline]
-pub fn leaf_cost(n: u32, unpackable: u32) -> f32 {
-    if unpackable == 0 {
+pub fn leaf_cost(n: u32, packs: Packs) -> f32 {
+    if packs.triangles == n || packs.spheres == n {
         n.div_ceil(BLOCK) as f32
     } else {
         n as f32
     }
 }
 
-/// Builds a BVH over `bounds` (one box per primitive); `packable[i]` tells whether
-/// primitive `i` can be tested in a block of [`BLOCK`] with others of its kind, which
+/// Builds a BVH over `bounds` (one box per primitive); `packs[i]` tells in which kind
+/// of block of [`BLOCK`] primitive `i` can be tested with others of its kind, which
 /// the SAH then counts as one test per block.
-pub fn build(bounds: &[Aabb], packable: &[bool]) -> Built {
-    build_with(bounds, packable, PARALLEL_ITEMS)
+pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
+    build_with(bounds, packs, PARALLEL_ITEMS)
 }
 
 /// [`build`], handing subtrees over `parallel_items` primitives to `rayon::join`
 /// (`usize::MAX`: all on the calling thread). The result is the same for any value.
-pub fn build_with(bounds: &[Aabb], packable: &[bool], parallel_items: usize) -> Built {
-    assert_eq!(bounds.len(), packable.len(), "one packable flag per box");
+pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
+    assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
     let mut items: Vec<Item> = bounds
         .iter()
-        .zip(packable)
+        .zip(packs)
         .enumerate()
-        .map(|(i, (b, &packable))| Item::new(b, i as u32, packable))
+        .map(|(i, (b, &pack))| Item::new(b, i as u32, pack))
         .collect();
     let mut nodes = Vec::with_capacity((2 * items.len()).max(1));
     nodes.push(BvhNode::default());
@@ -306,22 +348,21 @@ fn sweep(bins: &Bins, axis: usize, used: &[usize]) -> Option<(f32, usize)> {
     // Sweep from the right to get the right-hand areas and leaf costs.
     let mut right_area = [0.0f32; BINS];
     let mut right_cost = [0.0f32; BINS];
-    let (mut acc, mut cnt, mut packable) = (Box4::EMPTY, 0, 0);
+    let (mut acc, mut cnt, mut packs) = (Box4::EMPTY, 0, Packs::default());
     for j in (1..k).rev() {
         acc.add_box(&bins.bounds[axis][used[j]]);
         cnt += bins.count[axis][used[j]];
-        packable += bins.packable[axis][used[j]];
+        packs.add(bins.packs[axis][used[j]]);
         right_area[j] = acc.aabb().surface_area();
-        right_cost[j] = leaf_cost(cnt, cnt - packable);
+        right_cost[j] = leaf_cost(cnt, packs);
     }
     let mut best: Option<(f32, usize)> = None;
-    let (mut acc, mut cnt, mut packable) = (Box4::EMPTY, 0, 0);
+    let (mut acc, mut cnt, mut packs) = (Box4::EMPTY, 0, Packs::default());
     for j in 0..k - 1 {
         acc.add_box(&bins.bounds[axis][used[j]]);
         cnt += bins.count[axis][used[j]];
-        packable += bins.packable[axis][used[j]];
-        let cost = acc.aabb().surface_area() * leaf_cost(cnt, cnt - packable)
-            + right_area[j + 1] * right_cost[j + 1];
+        packs.add(bins.packs[axis][used[j]]);
+        let cost = acc.aabb().surface_area() * leaf_cost(cnt, packs) + right_area[j + 1] * right_cost[j + 1];
         if best.is_none_or(|(c, _)| cost < c) {
             best = Some((cost, used[j] + 1));
         }
@@ -358,8 +399,11 @@ fn partition(
 
 /// [`leaf_cost`] of `items` as one leaf.
 fn leaf_cost_of(items: &[Item]) -> f32 {
-    let packable: u32 = items.iter().map(Item::packable).sum();
-    leaf_cost(items.len() as u32, items.len() as u32 - packable)
+    let mut packs = Packs::default();
+    for it in items {
+        packs.add(Packs::one(it.pack()));
+    }
+    leaf_cost(items.len() as u32, packs)
 }
 
 /// Partitions at the object median along `axis`; returns the split index.

@@ -1,12 +1,13 @@
 //! The BVH over a scene's primitives and its two queries, `closest_hit` and `occluded`.
 
-use super::build;
+use super::build::{self, Pack};
 use std::cell::{Cell, RefCell};
 
 #[cfg(target_arch = "x86_64")]
 use super::avx::Avx;
 use super::nearest::Nearest;
 use super::node::BvhNode;
+use super::sphere4::Sphere4;
 use super::tri4::{Ray4, Tri4, LANES};
 use super::wide::{self, Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
@@ -56,11 +57,34 @@ pub(super) fn sort_descending(v: &mut [(u32, f32)]) {
 /// of `count & !TRI4_LEAF` [`Tri4`] blocks instead of the first primitive.
 pub(super) const TRI4_LEAF: usize = 1 << 31;
 
+/// Marks a wide leaf lane whose primitives are all spheres packed in blocks: its
+/// `child` is the first of `count & !SPHERE4_LEAF` [`Sphere4`] blocks.
+pub(super) const SPHERE4_LEAF: usize = 1 << 30;
+
+/// The kind of block `p` is tested in (see [`build::Pack`]): triangles and spheres
+/// visible from outside pack four to a block; everything else is tested alone.
+pub(super) fn pack_of(p: &Primitive) -> Pack {
+    match p.shape {
+        Shape::Triangle(_) => Pack::Triangle,
+        Shape::Sphere(s) if !s.inside => Pack::Sphere,
+        _ => Pack::Alone,
+    }
+}
+
+/// The blocks of [`Bvh::pack_leaves`].
+#[derive(Default)]
+struct Blocks {
+    tri4: Vec<Tri4>,
+    sphere4: Vec<Sphere4>,
+}
+
 /// Repacks every wide leaf lane made only of triangles into [`Tri4`] blocks (marked
-/// with [`TRI4_LEAF`]); other leaves keep pointing at `primitives`.
-fn pack_triangle_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Vec<Tri4> {
-    let mut blocks = Vec::new();
-    let mut lane_triangles = Vec::with_capacity(LANES);
+/// with [`TRI4_LEAF`]) and every one made only of packable spheres into [`Sphere4`]
+/// blocks (marked with [`SPHERE4_LEAF`]); other leaves keep pointing at `primitives`.
+fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
+    let mut blocks = Blocks::default();
+    let mut triangles = Vec::with_capacity(LANES);
+    let mut spheres = Vec::with_capacity(LANES);
     for node in wide.iter_mut() {
         for lane in 0..WIDTH {
             let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
@@ -68,21 +92,37 @@ fn pack_triangle_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Vec<Tri
                 continue;
             }
             let leaf = &primitives[first..first + count];
-            if !leaf.iter().all(|p| matches!(p.shape, Shape::Triangle(_))) {
+            let kind = pack_of(&leaf[0]);
+            if kind == Pack::Alone || leaf.iter().any(|p| pack_of(p) != kind) {
                 continue;
             }
-            let start = blocks.len();
-            for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
-                lane_triangles.clear();
-                for (k, p) in chunk.iter().enumerate() {
-                    if let Shape::Triangle(t) = p.shape {
-                        lane_triangles.push((t, (first + chunk_index * LANES + k) as u32));
+            let (start, end, mark) = if kind == Pack::Triangle {
+                let start = blocks.tri4.len();
+                for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
+                    triangles.clear();
+                    for (k, p) in chunk.iter().enumerate() {
+                        if let Shape::Triangle(t) = p.shape {
+                            triangles.push((t, (first + chunk_index * LANES + k) as u32));
+                        }
                     }
+                    blocks.tri4.push(Tri4::new(&triangles));
                 }
-                blocks.push(Tri4::new(&lane_triangles));
-            }
+                (start, blocks.tri4.len(), TRI4_LEAF)
+            } else {
+                let start = blocks.sphere4.len();
+                for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
+                    spheres.clear();
+                    for (k, p) in chunk.iter().enumerate() {
+                        if let Shape::Sphere(s) = p.shape {
+                            spheres.push((s, (first + chunk_index * LANES + k) as u32));
+                        }
+                    }
+                    blocks.sphere4.push(Sphere4::new(&spheres));
+                }
+                (start, blocks.sphere4.len(), SPHERE4_LEAF)
+            };
             node.child[lane] = start as u32;
-            node.count[lane] = (TRI4_LEAF | (blocks.len() - start)) as u32;
+            node.count[lane] = (mark | (end - start)) as u32;
         }
     }
     blocks
@@ -95,10 +135,13 @@ pub struct Bvh {
     /// The binary SAH tree (kept for statistics and validation).
     pub(super) nodes: Vec<BvhNode>,
     /// The same tree collapsed to 8-wide nodes, used by the queries. A leaf lane made
-    /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]).
+    /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]), one made only of
+    /// packable spheres to [`Sphere4`] blocks (see [`SPHERE4_LEAF`]).
     pub(super) wide: Vec<Node8>,
     /// The triangles of all-triangle leaves, four to a block, in leaf order.
     pub(super) tri4: Vec<Tri4>,
+    /// The spheres of all-sphere leaves, four to a block, in leaf order.
+    pub(super) sphere4: Vec<Sphere4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
     pub(super) primitives: Vec<Primitive>,
     pub(super) bounded: usize,
@@ -128,12 +171,10 @@ impl Bvh {
                 None => unbounded.push(p),
             }
         }
-        // Triangles are intersected four at a time (tri4 blocks), which the SAH knows.
-        let packable: Vec<bool> = bounded
-            .iter()
-            .map(|p: &Primitive| matches!(p.shape, Shape::Triangle(_)))
-            .collect();
-        let built = build::build(&bounds, &packable);
+        // Triangles and spheres are intersected four at a time (in blocks), which the
+        // SAH knows.
+        let packs: Vec<Pack> = bounded.iter().map(pack_of).collect();
+        let built = build::build(&bounds, &packs);
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
@@ -142,11 +183,12 @@ impl Bvh {
         } else {
             Vec::new()
         };
-        let tri4 = pack_triangle_leaves(&mut wide, &ordered);
+        let Blocks { tri4, sphere4 } = pack_leaves(&mut wide, &ordered);
         Bvh {
             nodes: built.nodes,
             wide,
             tri4,
+            sphere4,
             primitives: ordered,
             bounded: n_bounded,
             data,
@@ -281,7 +323,8 @@ impl Bvh {
 
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
     /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
-    /// when marked [`TRI4_LEAF`], else primitives.
+    /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`], else
+    /// primitives.
     #[inline(always)]
     pub(super) fn leaf_closest(
         &self,
@@ -293,6 +336,16 @@ impl Bvh {
     ) {
         if count & TRI4_LEAF != 0 {
             let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            for block in blocks {
+                if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
+                    nearest.offer(h, prim);
+                }
+            }
+            return;
+        }
+        if count & SPHERE4_LEAF != 0 {
+            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
             for block in blocks {
                 if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
@@ -382,6 +435,14 @@ impl Bvh {
                     let first = node.child[lane] as usize;
                     if count & TRI4_LEAF != 0 {
                         let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+                        count!(PRIMS, blocks.len() * LANES);
+                        if let Some(p) = blocks.iter().find_map(|b| b.any_hit(&ray4, t_max)) {
+                            return Some(p);
+                        }
+                        continue;
+                    }
+                    if count & SPHERE4_LEAF != 0 {
+                        let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
                         count!(PRIMS, blocks.len() * LANES);
                         if let Some(p) = blocks.iter().find_map(|b| b.any_hit(&ray4, t_max)) {
                             return Some(p);

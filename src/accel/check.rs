@@ -1,9 +1,9 @@
 //! Checks and statistics of a built BVH: the brute-force reference query, structural
 //! validation, shape statistics (with the SAH cost) and bounds.
 
-use super::build;
-use super::bvh::Bvh;
-use crate::geometry::{Hit, Shape};
+use super::build::{self, Packs};
+use super::bvh::{pack_of, Bvh};
+use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
 
 /// Depth limit of the binary tree (the builder stays well below it).
@@ -122,11 +122,11 @@ impl Bvh {
                 s.max_leaf = s.max_leaf.max(n.count);
                 let first = n.first as usize;
                 let leaf = &self.primitives[first..first + n.count as usize];
-                let unpackable = leaf
-                    .iter()
-                    .filter(|p| !matches!(p.shape, Shape::Triangle(_)))
-                    .count();
-                s.sah_cost += rel * build::leaf_cost(n.count, unpackable as u32) as f64;
+                let mut packs = Packs::default();
+                for p in leaf {
+                    packs.add(Packs::one(pack_of(p)));
+                }
+                s.sah_cost += rel * build::leaf_cost(n.count, packs) as f64;
             } else {
                 s.sah_cost += rel;
             }

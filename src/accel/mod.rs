@@ -12,6 +12,7 @@ mod nearest;
 mod node;
 mod packet;
 mod ray8;
+mod sphere4;
 mod tri4;
 mod wide;
 

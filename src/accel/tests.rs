@@ -70,10 +70,12 @@ fn coincident_primitives_still_build_a_valid_shallow_tree() {
 /// Four unit cubes 10 apart along x. By hand: root area 2(31 + 31 + 1) = 126, each
 /// half (two cubes) 2(11 + 11 + 1) = 46. Four primitives tested one by one cost 4 as a
 /// leaf and 1 + (46·2 + 46·2)/126 ≈ 2.46 split in halves, so they are split; four
-/// packable ones cost one block (1) as a leaf and 1 + (46 + 46)/126 ≈ 1.73 split, so
-/// they stay in one leaf.
+/// that pack in one kind of block cost one block (1) as a leaf and 1 + (46 + 46)/126
+/// ≈ 1.73 split, so they stay in one leaf; two triangles and two spheres cannot share
+/// a block, so they are split like the first four.
 #[test]
 fn the_sah_counts_packable_primitives_a_block_at_a_time() {
+    use super::build::{build, leaf_cost, Pack, Packs};
     use crate::math::Aabb;
     let cubes: Vec<Aabb> = (0..4)
         .map(|i| {
@@ -81,15 +83,25 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
             Aabb::new(min, min + Vec3::splat(1.0))
         })
         .collect();
-    let one_by_one = super::build::build(&cubes, &[false; 4]);
+    let one_by_one = build(&cubes, &[Pack::Alone; 4]);
     assert_eq!(one_by_one.nodes[0].count, 0, "split at the root");
     assert_eq!(one_by_one.nodes.len(), 7, "four leaves of one");
-    let blocks = super::build::build(&cubes, &[true; 4]);
-    assert_eq!(blocks.nodes.len(), 1, "one leaf");
-    assert_eq!(blocks.nodes[0].count, 4);
-    assert_eq!(super::build::leaf_cost(4, 0), 1.0);
-    assert_eq!(super::build::leaf_cost(5, 0), 2.0);
-    assert_eq!(super::build::leaf_cost(4, 1), 4.0);
+    for pack in [Pack::Triangle, Pack::Sphere] {
+        let blocks = build(&cubes, &[pack; 4]);
+        assert_eq!(blocks.nodes.len(), 1, "one leaf of {pack:?}");
+        assert_eq!(blocks.nodes[0].count, 4);
+    }
+    let mixed = build(
+        &cubes,
+        &[Pack::Triangle, Pack::Sphere, Pack::Triangle, Pack::Sphere],
+    );
+    assert_eq!(mixed.nodes[0].count, 0, "mixed kinds split at the root");
+    let packs = |triangles, spheres| Packs { triangles, spheres };
+    assert_eq!(leaf_cost(4, packs(4, 0)), 1.0);
+    assert_eq!(leaf_cost(4, packs(0, 4)), 1.0);
+    assert_eq!(leaf_cost(5, packs(5, 0)), 2.0);
+    assert_eq!(leaf_cost(4, packs(3, 0)), 4.0);
+    assert_eq!(leaf_cost(4, packs(2, 2)), 4.0);
 }
 
 #[test]
@@ -174,7 +186,18 @@ fn deep_trees_agree_with_brute_force() {
         (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
     };
     let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
-    let spheres: Vec<(Vec3, f32)> = (0..500).map(|_| (point(20.0), 0.2)).collect();
+    let mut spheres: Vec<(Vec3, f32)> = (0..500).map(|_| (point(20.0), 0.2)).collect();
+    // Clusters of eight (leaves of several spheres, tested in blocks) and a few
+    // inside-only spheres (tested alone).
+    for _ in 0..25 {
+        let c = point(20.0);
+        for _ in 0..8 {
+            spheres.push((c + point(0.5), 0.1));
+        }
+    }
+    for _ in 0..20 {
+        spheres.push((point(20.0), -0.5));
+    }
     let tris: Vec<[Vec3; 3]> = (0..3000)
         .map(|_| {
             let a = point(20.0);
@@ -183,6 +206,11 @@ fn deep_trees_agree_with_brute_force() {
         .collect();
     let bvh = bvh_of(&scene_with(&spheres, &tris));
     assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+    let shared = bvh.sphere4.iter().filter(|b| b.prim[1] != u32::MAX).count();
+    assert!(
+        shared >= 20,
+        "only {shared} sphere blocks hold more than one sphere"
+    );
     let mut hits = 0;
     for _ in 0..3000 {
         let origin = point(25.0);
@@ -261,14 +289,21 @@ fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::Aabb> {
 
 #[test]
 fn parallel_build_equals_sequential_build_exactly() {
-    use super::build::{build_with, MAX_LEAF};
+    use super::build::{build_with, Pack, MAX_LEAF};
     let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
     let bits = |n: &super::BvhNode| (n.min.map(f32::to_bits), n.max.map(f32::to_bits), n.first, n.count);
     for kind in 0..5 {
         for (seed, n) in [(1, 1), (2, 7), (3, 100), (4, 5000), (5, 30_000)] {
             let boxes = random_boxes(n, seed, kind);
             // Packable and not, mixed (each box's flag from its index).
-            let packable: Vec<bool> = (0..n).map(|i| i % 5 != 0).collect();
+            let kinds = [
+                Pack::Alone,
+                Pack::Triangle,
+                Pack::Triangle,
+                Pack::Sphere,
+                Pack::Triangle,
+            ];
+            let packable: Vec<Pack> = (0..n).map(|i| kinds[i % 5]).collect();
             let seq = build_with(&boxes, &packable, usize::MAX);
             for threshold in [0, 64, 4096] {
                 let par = pool.install(|| build_with(&boxes, &packable, threshold));

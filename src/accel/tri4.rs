@@ -35,8 +35,8 @@ const _: () = assert!(std::mem::size_of::<Tri4>() == 160);
 /// A ray broadcast to four lanes.
 #[derive(Clone, Copy)]
 pub struct Ray4 {
-    origin: [f32x4; 3],
-    dir: [f32x4; 3],
+    pub(super) origin: [f32x4; 3],
+    pub(super) dir: [f32x4; 3],
 }
 
 impl Ray4 {
@@ -98,6 +98,22 @@ where
     [det, t, u, v]
 }
 
+/// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
+/// equals (blocks keep their primitives in index order, so this is the lowest index).
+#[inline(always)]
+pub(super) fn nearest_lane(t: &[f32; LANES], mut mask: u32) -> usize {
+    let mut lane = mask.trailing_zeros() as usize;
+    mask &= mask - 1;
+    while mask != 0 {
+        let k = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        if t[k] < t[lane] {
+            lane = k;
+        }
+    }
+    lane
+}
+
 impl Tri4 {
     /// Packs up to four triangles with their primitive indices.
     pub fn new(triangles: &[(Triangle, u32)]) -> Tri4 {
@@ -156,20 +172,12 @@ impl Tri4 {
     /// primitive index.
     #[inline(always)]
     pub fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
-        let (t, u, v, mut mask) = self.test(ray, t_max);
+        let (t, u, v, mask) = self.test(ray, t_max);
         if mask == 0 {
             return None;
         }
         let (t, u, v) = (t.to_array(), u.to_array(), v.to_array());
-        let mut lane = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        while mask != 0 {
-            let k = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            if t[k] < t[lane] {
-                lane = k;
-            }
-        }
+        let lane = nearest_lane(&t, mask);
         let hit = Hit {
             t: t[lane],
             u: u[lane],

@@ -1,0 +1,230 @@
+//! Leaf blocks of four spheres in structure-of-arrays form, intersected together.
+//!
+//! The sphere counterpart of [`Tri4`](super::tri4::Tri4): a BVH leaf made only of
+//! (outside-visible) spheres is stored as one or more [`Sphere4`] blocks, 80 bytes for
+//! four spheres where the primitives take 64 bytes each. Every lane performs exactly
+//! the arithmetic of the scalar [`SphereShape::intersect`] (same operations in the same
+//! order, no fused multiply-add), so hits and distances are bit-identical to the
+//! scalar test's, and ties go to the lowest lane as they go to the first primitive in
+//! the scalar loop.
+
+use wide::f32x4;
+
+use super::tri4::{nearest_lane, Ray4, LANES};
+use crate::geometry::{Hit, SphereShape};
+
+/// Up to four spheres that are visible from outside (`inside` false): centres
+/// `[axis][lane]`, squared radii, and the index of each lane's primitive. Unused lanes
+/// have a squared radius of −1 (a negative discriminant, never hit) and primitive
+/// index `u32::MAX`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
+pub struct Sphere4 {
+    center: [[f32; LANES]; 3],
+    radius2: [f32; LANES],
+    /// Primitive index of each lane in the BVH's primitive array.
+    pub prim: [u32; LANES],
+}
+
+const _: () = assert!(std::mem::size_of::<Sphere4>() == 80);
+
+/// `a · b` per lane, summed left to right as in `Vec3::dot`.
+#[inline(always)]
+fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `f32::min` per lane: a NaN operand gives the other one (`fast_min` alone gives
+/// its second operand).
+#[inline(always)]
+fn min(a: f32x4, b: f32x4) -> f32x4 {
+    b.is_nan().bitselect(a, a.fast_min(b))
+}
+
+/// `f32::max` per lane, NaN as in [`min`].
+#[inline(always)]
+fn max(a: f32x4, b: f32x4) -> f32x4 {
+    b.is_nan().bitselect(a, a.fast_max(b))
+}
+
+impl Sphere4 {
+    /// Packs up to four spheres with their primitive indices.
+    ///
+    /// # Panics
+    /// With more than four spheres, or an inside-only one.
+    pub fn new(spheres: &[(SphereShape, u32)]) -> Sphere4 {
+        assert!(spheres.len() <= LANES, "a block holds at most {LANES} spheres");
+        let mut block = Sphere4 {
+            center: [[0.0; LANES]; 3],
+            radius2: [-1.0; LANES],
+            prim: [u32::MAX; LANES],
+        };
+        for (lane, (s, prim)) in spheres.iter().enumerate() {
+            assert!(!s.inside, "inside-only spheres are tested alone");
+            for (axis, c) in s.center.to_array().into_iter().enumerate() {
+                block.center[axis][lane] = c;
+            }
+            block.radius2[lane] = s.radius2;
+            block.prim[lane] = *prim;
+        }
+        block
+    }
+
+    /// The four lanes' distances and a mask of the lanes hit with `0 < t < t_max`.
+    #[inline(always)]
+    fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, u32) {
+        let d = &ray.dir;
+        let center = self.center.map(f32x4::from);
+        let radius2 = f32x4::from(self.radius2);
+        let f = [0, 1, 2].map(|axis| ray.origin[axis] - center[axis]);
+        let a = dot(d, d);
+        let b = -dot(&f, d);
+        let along = b / a;
+        let l = [0, 1, 2].map(|axis| f[axis] + d[axis] * along);
+        let disc = radius2 - dot(&l, &l);
+        // `disc >= 0` is false for a NaN, which the scalar test rejects too. Most
+        // blocks end here, before the square root and the divisions.
+        let crossing = disc.simd_ge(f32x4::ZERO).to_bitmask();
+        if crossing == 0 {
+            return (disc, 0);
+        }
+        let c = dot(&f, &f) - radius2;
+        // `copysign` of a non-negative (or NaN) root: its magnitude with b's sign bit.
+        let root = (a * disc).sqrt();
+        let q = b + (root.abs() | (b & f32x4::splat(-0.0)));
+        let (r0, r1) = (c / q, q / a);
+        let (t0, t1) = (min(r0, r1), max(r0, r1));
+        let zero = f32x4::ZERO;
+        let t_max = f32x4::splat(t_max);
+        let near = t0.simd_gt(zero) & t0.simd_lt(t_max);
+        let far = t1.simd_gt(zero) & t1.simd_lt(t_max);
+        let t = near.bitselect(t0, t1);
+        (t, crossing & (near | far).to_bitmask())
+    }
+
+    /// The nearest hit with `0 < t < t_max` (the lowest lane among equals), and its
+    /// primitive index.
+    #[inline(always)]
+    pub fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
+        let (t, mask) = self.test(ray, t_max);
+        if mask == 0 {
+            return None;
+        }
+        let t = t.to_array();
+        let lane = nearest_lane(&t, mask);
+        Some((
+            Hit {
+                t: t[lane],
+                u: 0.0,
+                v: 0.0,
+            },
+            self.prim[lane],
+        ))
+    }
+
+    /// The primitive index of the lowest lane hit with `0 < t < t_max`, if any.
+    #[inline(always)]
+    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
+        let mask = self.test(ray, t_max).1;
+        (mask != 0).then(|| self.prim[mask.trailing_zeros() as usize])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Ray, Vec3};
+
+    /// Spheres and rays chosen to reach every branch of the scalar test: misses, the
+    /// near root, the far root from inside, tiny spheres far away, a sphere behind the
+    /// origin, a tangent, a zero direction (NaN) and `t_max` cutting between roots.
+    fn cases() -> (Vec<SphereShape>, Vec<(Ray, f32)>) {
+        let spheres = vec![
+            SphereShape::new(Vec3::new(0.0, 0.0, 5.0), 1.0),
+            SphereShape::new(Vec3::new(0.3, -0.2, 9.0), 2.5),
+            SphereShape::new(Vec3::new(100.0, 50.0, 3000.0), 0.0006),
+            SphereShape::new(Vec3::new(0.0, 0.0, -4.0), 1.0),
+            SphereShape::new(Vec3::new(1.0, 0.0, 3.0), 1.0),
+            SphereShape::new(Vec3::new(0.0, 0.1, 0.0), 0.5),
+        ];
+        let mut rays = Vec::new();
+        for (o, d) in [
+            (Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)),
+            (Vec3::ZERO, Vec3::new(0.1, -0.05, 1.0)),
+            (Vec3::ZERO, Vec3::new(100.0, 50.0, 3000.0)),
+            (Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.2, 0.7, -0.1)),
+            (Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0)),
+            (Vec3::new(0.0, 1.0, 3.0), Vec3::new(1.0, 0.0, 0.0)),
+            (Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO),
+            (Vec3::new(-3.0, 0.2, 9.0), Vec3::new(1.0, 0.0, 0.0)),
+        ] {
+            for t_max in [f32::INFINITY, 5.0, 4.0, 0.5] {
+                rays.push((Ray::new(o, d), t_max));
+            }
+        }
+        (spheres, rays)
+    }
+
+    #[test]
+    fn each_lane_matches_the_scalar_test_bit_for_bit() {
+        let (spheres, rays) = cases();
+        for first in 0..spheres.len() - 1 {
+            let chunk: Vec<(SphereShape, u32)> = spheres[first..]
+                .iter()
+                .take(LANES)
+                .enumerate()
+                .map(|(k, s)| (*s, 10 + k as u32))
+                .collect();
+            let block = Sphere4::new(&chunk);
+            for (i, (ray, t_max)) in rays.iter().enumerate() {
+                let expected = chunk
+                    .iter()
+                    .filter_map(|(s, prim)| s.intersect(ray, *t_max).map(|h| (h, *prim)))
+                    .fold(None::<(Hit, u32)>, |best, h| match best {
+                        Some(b) if b.0.t <= h.0.t => Some(b),
+                        _ => Some(h),
+                    });
+                let ray4 = Ray4::new(ray);
+                let got = block.closest_hit(&ray4, *t_max);
+                assert_eq!(
+                    got.map(|(h, p)| (h.t.to_bits(), p)),
+                    expected.map(|(h, p)| (h.t.to_bits(), p)),
+                    "block {first}, ray {i}"
+                );
+                assert_eq!(block.any_hit(&ray4, *t_max).is_some(), expected.is_some());
+            }
+        }
+    }
+
+    #[test]
+    fn the_rays_reach_both_roots_and_misses() {
+        // Guards the cases above against losing their point: near roots, far roots
+        // (from inside) and misses all occur.
+        let (spheres, rays) = cases();
+        let (mut near, mut far, mut miss) = (0, 0, 0);
+        for s in &spheres {
+            for (ray, t_max) in &rays {
+                match s.intersect(ray, *t_max) {
+                    None => miss += 1,
+                    Some(h) if (ray.at(h.t) - s.center).dot(ray.dir) < 0.0 => near += 1,
+                    Some(_) => far += 1,
+                }
+            }
+        }
+        assert!(near > 0 && far > 0 && miss > 0, "{near} {far} {miss}");
+    }
+
+    #[test]
+    fn empty_lanes_are_never_hit() {
+        let block = Sphere4::new(&[]);
+        let ray = Ray4::new(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)));
+        assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
+        assert_eq!(block.any_hit(&ray, f32::INFINITY), None);
+    }
+
+    #[test]
+    #[should_panic(expected = "inside-only")]
+    fn inside_only_spheres_are_refused() {
+        Sphere4::new(&[(SphereShape::new(Vec3::ZERO, -1.0), 0)]);
+    }
+}
