@@ -18,9 +18,9 @@
 
 use std::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
-    _mm256_extractf128_ps, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps,
-    _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps, _mm_storeu_ps, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ,
-    _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
+    _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps, _mm_storeu_ps,
+    _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use super::bvh::Bvh;
@@ -99,6 +99,12 @@ impl Kernels for Avx {
         // SAFETY: as in `entries`.
         unsafe { hits8_avx(block, lane, rays, limits) }
     }
+
+    #[inline(always)]
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+        // SAFETY: as in `entries`.
+        unsafe { pair_avx(first, second, ray, t_max) }
+    }
 }
 
 /// Eight lanes as an AVX register.
@@ -124,18 +130,57 @@ fn store8(v: __m256) -> [f32; 8] {
     lanes
 }
 
-/// `Tri4::hits8` in AVX registers, operation for operation (`simd_ne` is the
-/// unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
+/// `Tri4::hits8` in AVX registers (see [`moller_trumbore8`]).
 #[target_feature(enable = "avx")]
 fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
     let tri = |a: &[[f32; 4]; 3]| [0, 1, 2].map(|axis| _mm256_set1_ps(a[axis][lane]));
-    let (v0, e1, e2) = (tri(&block.v0), tri(&block.e1), tri(&block.e2));
     let o = [
         load8(&rays.origin[0]),
         load8(&rays.origin[1]),
         load8(&rays.origin[2]),
     ];
     let d = [load8(&rays.dir[0]), load8(&rays.dir[1]), load8(&rays.dir[2])];
+    moller_trumbore8(
+        o,
+        d,
+        tri(&block.v0),
+        tri(&block.e1),
+        tri(&block.e2),
+        load8(limits),
+    )
+}
+
+/// `ray8::pair_hits` in AVX registers (see [`moller_trumbore8`]).
+#[target_feature(enable = "avx")]
+fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+    // SAFETY: each block array holds four f32, the width of one 128-bit load.
+    let both = |a: &[[f32; 4]; 3], b: &[[f32; 4]; 3]| {
+        [0, 1, 2].map(|axis| unsafe { _mm256_loadu2_m128(b[axis].as_ptr(), a[axis].as_ptr()) })
+    };
+    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+    moller_trumbore8(
+        o.map(|x| _mm256_set1_ps(x)),
+        d.map(|x| _mm256_set1_ps(x)),
+        both(&first.v0, &second.v0),
+        both(&first.e1, &second.e1),
+        both(&first.e2, &second.e2),
+        _mm256_set1_ps(t_max),
+    )
+}
+
+/// Möller–Trumbore and the acceptance of `Tri4::test` on eight lanes of rays and
+/// triangles, below `limit`, in AVX registers, operation for operation (`simd_ne` is
+/// the unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
+#[target_feature(enable = "avx")]
+#[inline]
+fn moller_trumbore8(
+    o: [__m256; 3],
+    d: [__m256; 3],
+    v0: [__m256; 3],
+    e1: [__m256; 3],
+    e2: [__m256; 3],
+    limit: __m256,
+) -> Hits8 {
     let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
     let cross = |a: &[__m256; 3], b: &[__m256; 3]| {
         [
@@ -172,7 +217,7 @@ fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hi
                 _mm256_cmp_ps::<_CMP_LE_OQ>(add(u, v), one),
                 _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
             ),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(t, load8(limits)),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
         ),
     );
     (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
@@ -279,5 +324,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn avx_pair_equals_the_portable_one_bit_for_bit() {
+        let Some(avx) = Avx::detect() else {
+            eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let (first, tris, packets) = crate::accel::ray8::tests::cases();
+        let second = crate::accel::ray8::tests::second_block(&tris);
+        let mut hits = 0;
+        for (rays, limits) in &packets {
+            for (r, &t_max) in rays.iter().zip(limits) {
+                let (pt, pu, pv, pm) = Portable.pair(&first, &second, r, t_max);
+                let (at, au, av, am) = avx.pair(&first, &second, r, t_max);
+                assert_eq!(pm, am);
+                for k in 0..8 {
+                    if pm & (1 << k) != 0 {
+                        let bits = |a: [f32; 8]| a[k].to_bits();
+                        assert_eq!((bits(pt), bits(pu), bits(pv)), (bits(at), bits(au), bits(av)));
+                        hits += 1;
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits} hits: too few to compare");
     }
 }

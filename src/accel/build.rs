@@ -14,12 +14,13 @@ use super::node::BvhNode;
 use crate::math::Aabb;
 
 /// Relative cost of one traversal step against one primitive test (or one test of a
-/// block of [`BLOCK`] primitives).
+/// block of packable primitives).
 const TRAVERSAL_COST: f32 = 1.0;
-/// Packable primitives (triangles, spheres) are tested this many at a time, so a leaf
-/// of one kind of them costs one test per started block of this size rather than one
-/// per primitive.
-pub const BLOCK: u32 = 4;
+/// Triangles are tested this many at a time (two blocks of four in one eight-lane
+/// test), so a leaf of them costs one test per started group of this size.
+pub const TRIANGLES_PER_TEST: u32 = 8;
+/// Spheres are tested this many at a time (one block of four).
+pub const SPHERES_PER_TEST: u32 = 4;
 /// Leaves never exceed this many primitives unless their centroids coincide.
 pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
@@ -38,8 +39,8 @@ pub struct Built {
     pub depth: u32,
 }
 
-/// The kind of block a primitive can share with others of its kind, [`BLOCK`] to a
-/// block tested at once.
+/// The kind of block a primitive can share with others of its kind, the blocks then
+/// tested several lanes at once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
 pub enum Pack {
@@ -79,20 +80,22 @@ impl Packs {
 }
 
 /// SAH cost of intersecting a leaf of `n` primitives with `packs` among them: a leaf
-/// made only of primitives of one kind of block is tested a block at a time, any
-/// other leaf a primitive at a time.
+/// made only of triangles costs one test per [`TRIANGLES_PER_TEST`], one made only of
+/// spheres one per [`SPHERES_PER_TEST`], any other leaf one per primitive.
 #[inline]
 pub fn leaf_cost(n: u32, packs: Packs) -> f32 {
-    if packs.triangles == n || packs.spheres == n {
-        n.div_ceil(BLOCK) as f32
+    if packs.triangles == n {
+        n.div_ceil(TRIANGLES_PER_TEST) as f32
+    } else if packs.spheres == n {
+        n.div_ceil(SPHERES_PER_TEST) as f32
     } else {
         n as f32
     }
 }
 
 /// Builds a BVH over `bounds` (one box per primitive); `packs[i]` tells in which kind
-/// of block of [`BLOCK`] primitive `i` can be tested with others of its kind, which
-/// the SAH then counts as one test per block.
+/// of block primitive `i` can be tested with others of its kind, which the SAH then
+/// counts as one test per block (see [`leaf_cost`]).
 pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
     build_with(bounds, packs, PARALLEL_ITEMS)
 }

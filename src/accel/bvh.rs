@@ -8,7 +8,7 @@ use super::avx::Avx;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::sphere4::Sphere4;
-use super::tri4::{Ray4, Tri4, LANES};
+use super::tri4::{nearest_lane, Ray4, Tri4, LANES};
 use super::wide::{self, Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::Ray;
@@ -264,7 +264,14 @@ impl Bvh {
                     each &= each - 1;
                     if t[lane] < nearest.limit {
                         let count = node.count[lane] as usize;
-                        self.leaf_closest(node.child[lane] as usize, count, ray, &ray4, &mut nearest);
+                        self.leaf_closest(
+                            kernels,
+                            node.child[lane] as usize,
+                            count,
+                            ray,
+                            &ray4,
+                            &mut nearest,
+                        );
                     }
                 }
                 // Go straight on to the nearest child; stack the others so that the
@@ -326,16 +333,17 @@ impl Bvh {
     /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`], else
     /// primitives.
     #[inline(always)]
-    pub(super) fn leaf_closest(
+    pub(super) fn leaf_closest<S: Kernels>(
         &self,
+        kernels: S,
         first: usize,
         count: usize,
         ray: &Ray,
         ray4: &Ray4,
         nearest: &mut Nearest,
     ) {
-        if count & TRI4_LEAF != 0 {
-            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+        if count & SPHERE4_LEAF != 0 {
+            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
             for block in blocks {
                 if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
@@ -344,10 +352,24 @@ impl Bvh {
             }
             return;
         }
-        if count & SPHERE4_LEAF != 0 {
-            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
+        if count & TRI4_LEAF != 0 {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
-            for block in blocks {
+            // Blocks two at a time (one eight-lane test), the last one alone.
+            let mut pairs = blocks.chunks_exact(2);
+            for pair in &mut pairs {
+                let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray, nearest.limit);
+                if mask != 0 {
+                    let lane = nearest_lane(&t, mask);
+                    let hit = Hit {
+                        t: t[lane],
+                        u: u[lane],
+                        v: v[lane],
+                    };
+                    nearest.offer(hit, pair[lane / LANES].prim[lane % LANES]);
+                }
+            }
+            for block in pairs.remainder() {
                 if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
                     nearest.offer(h, prim);
                 }
@@ -436,7 +458,15 @@ impl Bvh {
                     if count & TRI4_LEAF != 0 {
                         let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
                         count!(PRIMS, blocks.len() * LANES);
-                        if let Some(p) = blocks.iter().find_map(|b| b.any_hit(&ray4, t_max)) {
+                        let mut pairs = blocks.chunks_exact(2);
+                        for pair in &mut pairs {
+                            let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
+                            if mask != 0 {
+                                let lane = mask.trailing_zeros() as usize;
+                                return Some(pair[lane / LANES].prim[lane % LANES]);
+                            }
+                        }
+                        if let Some(p) = pairs.remainder().iter().find_map(|b| b.any_hit(&ray4, t_max)) {
                             return Some(p);
                         }
                         continue;

@@ -51,6 +51,21 @@ impl Ray8 {
 /// and the rays that hit with `0 < t < limit` as bits.
 pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
 
+/// The hits of a Möller–Trumbore result `[det, t, u, v]` over eight lanes, each below
+/// its own `limit`, accepted as `Tri4::test` accepts them.
+#[inline(always)]
+fn accept8([det, t, u, v]: [f32x8; 4], limit: f32x8) -> Hits8 {
+    let (zero, one) = (f32x8::ZERO, f32x8::ONE);
+    let ok = det.simd_ne(zero)
+        & u.simd_ge(zero)
+        & u.simd_le(one)
+        & v.simd_ge(zero)
+        & (u + v).simd_le(one)
+        & t.simd_gt(zero)
+        & t.simd_lt(limit);
+    (t.to_array(), u.to_array(), v.to_array(), ok.to_bitmask())
+}
+
 impl Tri4 {
     /// Lane `lane`'s triangle against the eight rays of `rays`, each below its own
     /// `limits[k]`, with the arithmetic of the 4-lane test (`Tri4::test`).
@@ -58,7 +73,7 @@ impl Tri4 {
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
         let tri = |a: &[[f32; LANES]; 3]| [0, 1, 2].map(|axis| f32x8::splat(a[axis][lane]));
-        let [det, t, u, v] = moller_trumbore(
+        let mt = moller_trumbore(
             &rays.origin.map(f32x8::from),
             &rays.dir.map(f32x8::from),
             &tri(&self.v0),
@@ -66,16 +81,33 @@ impl Tri4 {
             &tri(&self.e2),
             f32x8::ONE,
         );
-        let (zero, one) = (f32x8::ZERO, f32x8::ONE);
-        let ok = det.simd_ne(zero)
-            & u.simd_ge(zero)
-            & u.simd_le(one)
-            & v.simd_ge(zero)
-            & (u + v).simd_le(one)
-            & t.simd_gt(zero)
-            & t.simd_lt(f32x8::from(*limits));
-        (t.to_array(), u.to_array(), v.to_array(), ok.to_bitmask())
+        accept8(mt, f32x8::from(*limits))
     }
+}
+
+/// The eight triangles of two blocks (`first`'s four lanes, then `second`'s) against
+/// one ray below `t_max`, with the arithmetic of the 4-lane test (`Tri4::test`): one
+/// eight-lane test where a leaf holds five to eight triangles.
+#[inline(always)]
+pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+    let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
+        [0, 1, 2].map(|axis| {
+            let mut lanes = [0.0; RAYS];
+            lanes[..LANES].copy_from_slice(&a[axis]);
+            lanes[LANES..].copy_from_slice(&b[axis]);
+            f32x8::from(lanes)
+        })
+    };
+    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+    let mt = moller_trumbore(
+        &o.map(f32x8::splat),
+        &d.map(f32x8::splat),
+        &both(&first.v0, &second.v0),
+        &both(&first.e1, &second.e1),
+        &both(&first.e2, &second.e2),
+        f32x8::ONE,
+    );
+    accept8(mt, f32x8::splat(t_max))
 }
 
 #[cfg(test)]
@@ -149,6 +181,38 @@ pub(crate) mod tests {
                     if let Some(h) = want {
                         assert_eq!(
                             (t[k].to_bits(), u[k].to_bits(), v[k].to_bits()),
+                            (h.t.to_bits(), h.u.to_bits(), h.v.to_bits())
+                        );
+                        hits += 1;
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits} hits: too few to test the lanes");
+    }
+
+    /// The second block of [`pair_hits`]: the first one's triangles in reverse order,
+    /// three of them (one empty lane).
+    pub(crate) fn second_block(tris: &[Triangle; 4]) -> Tri4 {
+        Tri4::new(&[(tris[3], 4), (tris[2], 5), (tris[1], 6)])
+    }
+
+    #[test]
+    fn pair_lanes_get_the_scalar_test_bit_for_bit() {
+        let (first, tris, packets) = cases();
+        let second = second_block(&tris);
+        let lanes = [tris[0], tris[1], tris[2], tris[3], tris[3], tris[2], tris[1]];
+        let mut hits = 0;
+        for (rays, limits) in &packets {
+            for (r, &t_max) in rays.iter().zip(limits) {
+                let (t, u, v, mask) = pair_hits(&first, &second, r, t_max);
+                assert_eq!(mask & 0x80, 0, "the empty lane is never hit");
+                for (lane, tri) in lanes.iter().enumerate() {
+                    let want = tri.intersect(r, t_max);
+                    assert_eq!(mask & (1 << lane) != 0, want.is_some(), "lane {lane}");
+                    if let Some(h) = want {
+                        assert_eq!(
+                            (t[lane].to_bits(), u[lane].to_bits(), v[lane].to_bits()),
                             (h.t.to_bits(), h.u.to_bits(), h.v.to_bits())
                         );
                         hits += 1;

@@ -97,9 +97,11 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
     );
     assert_eq!(mixed.nodes[0].count, 0, "mixed kinds split at the root");
     let packs = |triangles, spheres| Packs { triangles, spheres };
-    assert_eq!(leaf_cost(4, packs(4, 0)), 1.0);
+    // Eight triangles to a test (two blocks of four), four spheres (one block).
+    assert_eq!(leaf_cost(8, packs(8, 0)), 1.0);
+    assert_eq!(leaf_cost(9, packs(9, 0)), 2.0);
     assert_eq!(leaf_cost(4, packs(0, 4)), 1.0);
-    assert_eq!(leaf_cost(5, packs(5, 0)), 2.0);
+    assert_eq!(leaf_cost(5, packs(0, 5)), 2.0);
     assert_eq!(leaf_cost(4, packs(3, 0)), 4.0);
     assert_eq!(leaf_cost(4, packs(2, 2)), 4.0);
 }

@@ -99,9 +99,10 @@ where
 }
 
 /// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
-/// equals (blocks keep their primitives in index order, so this is the lowest index).
+/// equals (blocks keep their primitives in index order, and a pair of blocks the
+/// first one's before the second one's, so this is the lowest index).
 #[inline(always)]
-pub(super) fn nearest_lane(t: &[f32; LANES], mut mask: u32) -> usize {
+pub(super) fn nearest_lane(t: &[f32], mut mask: u32) -> usize {
     let mut lane = mask.trailing_zeros() as usize;
     mask &= mask - 1;
     while mask != 0 {

@@ -12,7 +12,7 @@
 use wide::{f32x8, u32x8};
 
 use super::node::BvhNode;
-use super::ray8::{Hits8, Ray8, RAYS};
+use super::ray8::{pair_hits, Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
 use crate::math::{Ray, TINY_DIR};
 
@@ -119,6 +119,8 @@ pub trait Kernels: Copy {
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
     /// As `Tri4::hits8` (one triangle against eight rays).
     fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8;
+    /// As `ray8::pair_hits` (two blocks of triangles against one ray).
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8;
 }
 
 /// The kernels as the `wide` crate compiles them for the build target.
@@ -134,6 +136,11 @@ impl Kernels for Portable {
     #[inline(always)]
     fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         block.hits8(lane, rays, limits)
+    }
+
+    #[inline(always)]
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+        pair_hits(first, second, ray, t_max)
     }
 }
 
