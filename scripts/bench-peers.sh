@@ -44,6 +44,19 @@ for size in 4 5 6; do
     printf '%-8s %10s %10.3f %10.3f %12.2f %12.2f %14.2f\n' "$size" "$prims" "$parse" "$build" "$pm" "$rm_" "$pp"
 done
 
+echo "== scale: whole --spd renders of nffrt gen balls and mount at growing sizes, 2 threads (median of $runs)"
+printf '%-10s %10s %9s %9s %9s %12s %10s\n' scene prims parse_s build_s render_s ns_per_ray peak_MB
+for gen in "balls 3" "balls 4" "balls 5" "balls 6" "mount 5" "mount 7" "mount 9"; do
+    set -- $gen
+    "$nffrt" gen "$1" --size "$2" -o "$tmp/scale.nff"
+    st=$(for _ in $(seq "$runs"); do
+        /usr/bin/time -f '%M' -o "$tmp/rss" "$nffrt" render "$tmp/scale.nff" --spd -q -o "$tmp/s.png" --stats-json "$tmp/s.json"
+        python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['parse_s'], d['build_s'], d['render_s'], 1e9*d['render_s']/d['total_rays'], d['primitives'], int(open(sys.argv[2]).read().split()[-1])/1024)" "$tmp/s.json" "$tmp/rss"
+    done)
+    col() { echo "$st" | cut -d' ' -f"$1" | median; }
+    printf '%-10s %10s %9.3f %9.3f %9.3f %12.1f %10.0f\n' "$1-$2" "$(echo "$st" | head -1 | cut -d' ' -f5)" "$(col 1)" "$(col 2)" "$(col 3)" "$(col 4)" "$(col 6)"
+done
+
 if [ -x "$py" ]; then
     echo "== traversal, single thread, same rays (Mrays/s, median of $runs)"
     printf '%-18s %-8s %10s %10s %8s %10s %10s\n' scene rays embree nffrt ratio embree-occl nffrt-occl
