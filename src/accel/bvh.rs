@@ -8,7 +8,7 @@ use super::avx::Avx;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::sphere4::Sphere4;
-use super::tri4::{nearest_lane, Ray4, Tri4, LANES};
+use super::tri4::{nearest_lane, Block, Ray4, Tri4, LANES};
 use super::wide::{self, Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::Ray;
@@ -71,7 +71,7 @@ pub(super) fn pack_of(p: &Primitive) -> Pack {
     }
 }
 
-/// The blocks of [`Bvh::pack_leaves`].
+/// The blocks of [`pack_leaves`].
 #[derive(Default)]
 struct Blocks {
     tri4: Vec<Tri4>,
@@ -83,8 +83,6 @@ struct Blocks {
 /// blocks (marked with [`SPHERE4_LEAF`]); other leaves keep pointing at `primitives`.
 fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
     let mut blocks = Blocks::default();
-    let mut triangles = Vec::with_capacity(LANES);
-    let mut spheres = Vec::with_capacity(LANES);
     for node in wide.iter_mut() {
         for lane in 0..WIDTH {
             let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
@@ -93,39 +91,67 @@ fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
             }
             let leaf = &primitives[first..first + count];
             let kind = pack_of(&leaf[0]);
-            if kind == Pack::Alone || leaf.iter().any(|p| pack_of(p) != kind) {
+            if leaf.iter().any(|p| pack_of(p) != kind) {
                 continue;
             }
-            let (start, end, mark) = if kind == Pack::Triangle {
-                let start = blocks.tri4.len();
-                for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
-                    triangles.clear();
-                    for (k, p) in chunk.iter().enumerate() {
-                        if let Shape::Triangle(t) = p.shape {
-                            triangles.push((t, (first + chunk_index * LANES + k) as u32));
-                        }
-                    }
-                    blocks.tri4.push(Tri4::new(&triangles));
-                }
-                (start, blocks.tri4.len(), TRI4_LEAF)
-            } else {
-                let start = blocks.sphere4.len();
-                for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
-                    spheres.clear();
-                    for (k, p) in chunk.iter().enumerate() {
-                        if let Shape::Sphere(s) = p.shape {
-                            spheres.push((s, (first + chunk_index * LANES + k) as u32));
-                        }
-                    }
-                    blocks.sphere4.push(Sphere4::new(&spheres));
-                }
-                (start, blocks.sphere4.len(), SPHERE4_LEAF)
+            let triangle = |s: &Shape| match s {
+                Shape::Triangle(t) => Some(*t),
+                _ => None,
             };
-            node.child[lane] = start as u32;
-            node.count[lane] = (mark | (end - start)) as u32;
+            let sphere = |s: &Shape| match s {
+                Shape::Sphere(s) => Some(*s),
+                _ => None,
+            };
+            let (range, mark) = match kind {
+                Pack::Alone => continue,
+                Pack::Triangle => (
+                    pack_into(leaf, first, triangle, Tri4::new, &mut blocks.tri4),
+                    TRI4_LEAF,
+                ),
+                Pack::Sphere => (
+                    pack_into(leaf, first, sphere, Sphere4::new, &mut blocks.sphere4),
+                    SPHERE4_LEAF,
+                ),
+            };
+            node.child[lane] = range.start as u32;
+            node.count[lane] = (mark | range.len()) as u32;
         }
     }
     blocks
+}
+
+/// Appends to `out` the blocks (`make`, [`LANES`] shapes at most) of `leaf`, whose
+/// primitives are `first, first + 1, …` and all have the shape `shape` picks out;
+/// returns the range of the new blocks.
+fn pack_into<T, B>(
+    leaf: &[Primitive],
+    first: usize,
+    shape: impl Fn(&Shape) -> Option<T>,
+    make: impl Fn(&[(T, u32)]) -> B,
+    out: &mut Vec<B>,
+) -> std::ops::Range<usize> {
+    let start = out.len();
+    let mut lanes = Vec::with_capacity(LANES);
+    for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
+        lanes.clear();
+        for (k, p) in chunk.iter().enumerate() {
+            if let Some(t) = shape(&p.shape) {
+                lanes.push((t, (first + chunk_index * LANES + k) as u32));
+            }
+        }
+        out.push(make(&lanes));
+    }
+    start..out.len()
+}
+
+/// Offers to `nearest` the hits of `ray4` in `blocks`, a block at a time.
+#[inline(always)]
+fn blocks_closest<B: Block>(blocks: &[B], ray4: &Ray4, nearest: &mut Nearest) {
+    for block in blocks {
+        if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
+            nearest.offer(h, prim);
+        }
+    }
 }
 
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
@@ -345,11 +371,7 @@ impl Bvh {
         if count & SPHERE4_LEAF != 0 {
             let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
-            for block in blocks {
-                if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
-                    nearest.offer(h, prim);
-                }
-            }
+            blocks_closest(blocks, ray4, nearest);
             return;
         }
         if count & TRI4_LEAF != 0 {
@@ -369,11 +391,7 @@ impl Bvh {
                     nearest.offer(hit, pair[lane / LANES].prim[lane % LANES]);
                 }
             }
-            for block in pairs.remainder() {
-                if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
-                    nearest.offer(h, prim);
-                }
-            }
+            blocks_closest(pairs.remainder(), ray4, nearest);
             return;
         }
         count!(PRIMS, count);
@@ -419,6 +437,44 @@ impl Bvh {
         self.occluder_with(Portable, ray, t_max)
     }
 
+    /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`])
+    /// lying on `ray` (and `ray4`, the same ray broadcast) with `0 < t < t_max`.
+    #[inline(always)]
+    fn leaf_any<S: Kernels>(
+        &self,
+        kernels: S,
+        first: usize,
+        count: usize,
+        ray: &Ray,
+        ray4: &Ray4,
+        t_max: f32,
+    ) -> Option<u32> {
+        if count & SPHERE4_LEAF != 0 {
+            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+        }
+        if count & TRI4_LEAF != 0 {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            let mut pairs = blocks.chunks_exact(2);
+            for pair in &mut pairs {
+                let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
+                if mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    return Some(pair[lane / LANES].prim[lane % LANES]);
+                }
+            }
+            return pairs.remainder().iter().find_map(|b| b.any_hit(ray4, t_max));
+        }
+        count!(PRIMS, count);
+        let leaf = &self.primitives[first..first + count];
+        let k = leaf
+            .iter()
+            .position(|p| p.intersect(ray, t_max, &self.data).is_some())?;
+        Some((first + k) as u32)
+    }
+
     /// [`Bvh::occluder`] with the slab test `kernels` (see [`Bvh::closest_hit_with`]).
     #[inline(always)]
     pub(super) fn occluder_with<S: Kernels>(&self, kernels: S, ray: &Ray, t_max: f32) -> Option<u32> {
@@ -455,37 +511,8 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
-                    if count & TRI4_LEAF != 0 {
-                        let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-                        count!(PRIMS, blocks.len() * LANES);
-                        let mut pairs = blocks.chunks_exact(2);
-                        for pair in &mut pairs {
-                            let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
-                            if mask != 0 {
-                                let lane = mask.trailing_zeros() as usize;
-                                return Some(pair[lane / LANES].prim[lane % LANES]);
-                            }
-                        }
-                        if let Some(p) = pairs.remainder().iter().find_map(|b| b.any_hit(&ray4, t_max)) {
-                            return Some(p);
-                        }
-                        continue;
-                    }
-                    if count & SPHERE4_LEAF != 0 {
-                        let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
-                        count!(PRIMS, blocks.len() * LANES);
-                        if let Some(p) = blocks.iter().find_map(|b| b.any_hit(&ray4, t_max)) {
-                            return Some(p);
-                        }
-                        continue;
-                    }
-                    let leaf = &self.primitives[first..first + count];
-                    count!(PRIMS, count);
-                    if let Some(k) = leaf
-                        .iter()
-                        .position(|p| p.intersect(ray, t_max, &self.data).is_some())
-                    {
-                        return Some((first + k) as u32);
+                    if let Some(p) = self.leaf_any(kernels, first, count, ray, &ray4, t_max) {
+                        return Some(p);
                     }
                 }
                 match next.or_else(|| stack.pop().map(|(node, _)| node)) {

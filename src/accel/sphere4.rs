@@ -10,8 +10,8 @@
 
 use wide::f32x4;
 
-use super::tri4::{nearest_lane, Ray4, LANES};
-use crate::geometry::{Hit, SphereShape};
+use super::tri4::{Block, Ray4, LANES};
+use crate::geometry::SphereShape;
 
 /// Up to four spheres that are visible from outside (`inside` false): centres
 /// `[axis][lane]`, squared radii, and the index of each lane's primitive. Unused lanes
@@ -69,10 +69,12 @@ impl Sphere4 {
         }
         block
     }
+}
 
-    /// The four lanes' distances and a mask of the lanes hit with `0 < t < t_max`.
+impl Block for Sphere4 {
+    /// The scalar sphere test on the four lanes (no barycentrics: zero).
     #[inline(always)]
-    fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, u32) {
+    fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
         let d = &ray.dir;
         let center = self.center.map(f32x4::from);
         let radius2 = f32x4::from(self.radius2);
@@ -86,7 +88,7 @@ impl Sphere4 {
         // blocks end here, before the square root and the divisions.
         let crossing = disc.simd_ge(f32x4::ZERO).to_bitmask();
         if crossing == 0 {
-            return (disc, 0);
+            return (disc, f32x4::ZERO, f32x4::ZERO, 0);
         }
         let c = dot(&f, &f) - radius2;
         // `copysign` of a non-negative (or NaN) root: its magnitude with b's sign bit.
@@ -99,40 +101,19 @@ impl Sphere4 {
         let near = t0.simd_gt(zero) & t0.simd_lt(t_max);
         let far = t1.simd_gt(zero) & t1.simd_lt(t_max);
         let t = near.bitselect(t0, t1);
-        (t, crossing & (near | far).to_bitmask())
+        (t, zero, zero, crossing & (near | far).to_bitmask())
     }
 
-    /// The nearest hit with `0 < t < t_max` (the lowest lane among equals), and its
-    /// primitive index.
     #[inline(always)]
-    pub fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
-        let (t, mask) = self.test(ray, t_max);
-        if mask == 0 {
-            return None;
-        }
-        let t = t.to_array();
-        let lane = nearest_lane(&t, mask);
-        Some((
-            Hit {
-                t: t[lane],
-                u: 0.0,
-                v: 0.0,
-            },
-            self.prim[lane],
-        ))
-    }
-
-    /// The primitive index of the lowest lane hit with `0 < t < t_max`, if any.
-    #[inline(always)]
-    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
-        let mask = self.test(ray, t_max).1;
-        (mask != 0).then(|| self.prim[mask.trailing_zeros() as usize])
+    fn prims(&self) -> &[u32; LANES] {
+        &self.prim
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Hit;
     use crate::math::{Ray, Vec3};
 
     /// Spheres and rays chosen to reach every branch of the scalar test: misses, the

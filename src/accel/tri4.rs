@@ -143,9 +143,10 @@ impl Tri4 {
         }
         block
     }
+}
 
-    /// The four lanes' distances, barycentrics and a mask of the lanes hit with
-    /// `0 < t < t_max`.
+impl Block for Tri4 {
+    /// Möller–Trumbore on the four lanes (see [`moller_trumbore`]).
     #[inline(always)]
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
         let [det, t, u, v] = moller_trumbore(
@@ -169,10 +170,26 @@ impl Tri4 {
         (t, u, v, ok.to_bitmask())
     }
 
+    #[inline(always)]
+    fn prims(&self) -> &[u32; LANES] {
+        &self.prim
+    }
+}
+
+/// A block of up to [`LANES`] primitives of one kind (in index order), tested
+/// together against one ray.
+pub(super) trait Block {
+    /// Per lane the distance and the barycentrics (zero for shapes without), and the
+    /// lanes hit with `0 < t < t_max` as bits.
+    fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32);
+
+    /// The primitive index of each lane (`u32::MAX` for an empty one).
+    fn prims(&self) -> &[u32; LANES];
+
     /// The nearest hit with `0 < t < t_max` (the lowest lane among equals), and its
     /// primitive index.
     #[inline(always)]
-    pub fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
+    fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
         let (t, u, v, mask) = self.test(ray, t_max);
         if mask == 0 {
             return None;
@@ -184,14 +201,14 @@ impl Tri4 {
             u: u[lane],
             v: v[lane],
         };
-        Some((hit, self.prim[lane]))
+        Some((hit, self.prims()[lane]))
     }
 
     /// The primitive index of the lowest lane hit with `0 < t < t_max`, if any.
     #[inline(always)]
-    pub fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
+    fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
         let mask = self.test(ray, t_max).3;
-        (mask != 0).then(|| self.prim[mask.trailing_zeros() as usize])
+        (mask != 0).then(|| self.prims()[mask.trailing_zeros() as usize])
     }
 }
 
