@@ -1,10 +1,10 @@
-//! AVX versions of the two traversal kernels, chosen at run time.
+//! AVX versions of the traversal kernels, chosen at run time.
 //!
 //! The release build targets baseline x86_64 (SSE2), where `wide::f32x8` is two SSE
 //! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`],
 //! [`Bvh::occluded`] and [`Bvh::closest_hit_packet`] run copies of themselves compiled
-//! for AVX2, whose eight-lane slab test (and the packets' one-triangle-eight-rays
-//! test) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
+//! for AVX2, whose eight-lane slab test (and the eight-lane triangle tests: two blocks
+//! against a ray, one triangle against a packet's rays) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
 //! for operation and operand for operand (no fused multiply-add), so every answer and
 //! every image is bit-identical whichever version runs. `NFFRT_SIMD=portable` in the

@@ -71,6 +71,15 @@ impl Packs {
         }
     }
 
+    /// The counts of primitives of kinds `packs`.
+    pub fn of(packs: impl IntoIterator<Item = Pack>) -> Packs {
+        let mut all = Packs::default();
+        for pack in packs {
+            all.add(Packs::one(pack));
+        }
+        all
+    }
+
     /// Adds `other`'s counts.
     #[inline]
     pub fn add(&mut self, other: Packs) {
@@ -402,11 +411,7 @@ fn partition(
 
 /// [`leaf_cost`] of `items` as one leaf.
 fn leaf_cost_of(items: &[Item]) -> f32 {
-    let mut packs = Packs::default();
-    for it in items {
-        packs.add(Packs::one(it.pack()));
-    }
-    leaf_cost(items.len() as u32, packs)
+    leaf_cost(items.len() as u32, Packs::of(items.iter().map(Item::pack)))
 }
 
 /// Partitions at the object median along `axis`; returns the split index.

@@ -122,10 +122,7 @@ impl Bvh {
                 s.max_leaf = s.max_leaf.max(n.count);
                 let first = n.first as usize;
                 let leaf = &self.primitives[first..first + n.count as usize];
-                let mut packs = Packs::default();
-                for p in leaf {
-                    packs.add(Packs::one(pack_of(p)));
-                }
+                let packs = Packs::of(leaf.iter().map(pack_of));
                 s.sah_cost += rel * build::leaf_cost(n.count, packs) as f64;
             } else {
                 s.sah_cost += rel;

@@ -1,5 +1,6 @@
 //! Eight rays in structure-of-arrays form, tested together against one triangle of a
-//! [`Tri4`] block: the leaf test of a packet.
+//! [`Tri4`] block: the leaf test of a packet; and the eight triangles of two blocks
+//! tested together against one ray ([`pair_hits`]).
 //!
 //! Each (ray, triangle) pair goes through exactly the arithmetic of the 4-lane
 //! [`Tri4`] test (same operations in the same order, no fused multiply-add), so hits,

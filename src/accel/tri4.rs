@@ -1,7 +1,8 @@
 //! Leaf blocks of four triangles in structure-of-arrays form, intersected together.
 //!
 //! A BVH leaf made only of triangles is stored as one or more [`Tri4`] blocks; one
-//! Möller–Trumbore test over four lanes replaces four scalar ones. Every lane
+//! Möller–Trumbore test over four lanes replaces four scalar ones (and two blocks go
+//! through one eight-lane test, `ray8::pair_hits`). Every lane
 //! performs exactly the scalar [`Triangle::intersect`] arithmetic (same operations in
 //! the same order, no fused multiply-add), so hits, distances and barycentrics are
 //! bit-identical to the scalar test's, and ties go to the lowest lane as they go to

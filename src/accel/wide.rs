@@ -111,7 +111,7 @@ impl Node8 {
 }
 
 /// The SIMD kernels of traversal (a ray against a node's eight boxes, a triangle
-/// against eight rays): [`Portable`] on any CPU, or the AVX ones (`accel::avx`) with
+/// against eight rays, eight triangles against a ray): [`Portable`] on any CPU, or the AVX ones (`accel::avx`) with
 /// the very same arithmetic. The traversal functions are generic over them so that
 /// each instruction set gets its own copy.
 pub trait Kernels: Copy {
