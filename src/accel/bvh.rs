@@ -197,8 +197,8 @@ impl Bvh {
                 None => unbounded.push(p),
             }
         }
-        // Triangles and spheres are intersected four at a time (in blocks), which the
-        // SAH knows.
+        // Triangles and spheres are intersected several at a time (in blocks), which
+        // the SAH knows.
         let packs: Vec<Pack> = bounded.iter().map(pack_of).collect();
         let built = build::build(&bounds, &packs);
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
