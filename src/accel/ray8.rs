@@ -8,7 +8,7 @@
 
 use wide::f32x8;
 
-use super::tri4::{moller_trumbore, Tri4, LANES};
+use super::tri4::{accepted, moller_trumbore, Tri4, LANES};
 use crate::math::Ray;
 
 /// Rays per [`Ray8`].
@@ -55,16 +55,9 @@ pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
 /// The hits of a Möller–Trumbore result `[det, t, u, v]` over eight lanes, each below
 /// its own `limit`, accepted as `Tri4::test` accepts them.
 #[inline(always)]
-fn accept8([det, t, u, v]: [f32x8; 4], limit: f32x8) -> Hits8 {
-    let (zero, one) = (f32x8::ZERO, f32x8::ONE);
-    let ok = det.simd_ne(zero)
-        & u.simd_ge(zero)
-        & u.simd_le(one)
-        & v.simd_ge(zero)
-        & (u + v).simd_le(one)
-        & t.simd_gt(zero)
-        & t.simd_lt(limit);
-    (t.to_array(), u.to_array(), v.to_array(), ok.to_bitmask())
+fn accept8(mt: [f32x8; 4], limit: f32x8) -> Hits8 {
+    let [_, t, u, v] = mt;
+    (t.to_array(), u.to_array(), v.to_array(), accepted(mt, limit))
 }
 
 impl Tri4 {

@@ -8,9 +8,9 @@
 //! bit-identical to the scalar test's, and ties go to the lowest lane as they go to
 //! the first primitive in the scalar loop.
 
-use std::ops::{Add, Div, Mul, Sub};
+use std::ops::{Add, BitAnd, Div, Mul, Sub};
 
-use wide::f32x4;
+use wide::{f32x4, f32x8};
 
 use crate::geometry::{Hit, Triangle};
 use crate::math::Ray;
@@ -99,6 +99,74 @@ where
     [det, t, u, v]
 }
 
+/// The comparisons of the triangle test's acceptance, on four lanes or eight: each
+/// gives a mask (all ones where true), combined with `&` and read out once as bits.
+pub(super) trait Accept: Copy + Add<Output = Self> + BitAnd<Output = Self> {
+    /// Zero in every lane.
+    const ZERO: Self;
+    /// One in every lane.
+    const ONE: Self;
+    /// `self != rhs` per lane (true on NaN, as `!=`).
+    fn ne(self, rhs: Self) -> Self;
+    /// `self >= rhs` per lane (false on NaN).
+    fn ge(self, rhs: Self) -> Self;
+    /// `self <= rhs` per lane (false on NaN).
+    fn le(self, rhs: Self) -> Self;
+    /// `self > rhs` per lane (false on NaN).
+    fn gt(self, rhs: Self) -> Self;
+    /// `self < rhs` per lane (false on NaN).
+    fn lt(self, rhs: Self) -> Self;
+    /// A mask's lanes as bits.
+    fn bits(self) -> u32;
+}
+
+macro_rules! accept {
+    ($t:ty) => {
+        impl Accept for $t {
+            const ZERO: Self = <$t>::ZERO;
+            const ONE: Self = <$t>::ONE;
+            #[inline(always)]
+            fn ne(self, rhs: Self) -> Self {
+                self.simd_ne(rhs)
+            }
+            #[inline(always)]
+            fn ge(self, rhs: Self) -> Self {
+                self.simd_ge(rhs)
+            }
+            #[inline(always)]
+            fn le(self, rhs: Self) -> Self {
+                self.simd_le(rhs)
+            }
+            #[inline(always)]
+            fn gt(self, rhs: Self) -> Self {
+                self.simd_gt(rhs)
+            }
+            #[inline(always)]
+            fn lt(self, rhs: Self) -> Self {
+                self.simd_lt(rhs)
+            }
+            #[inline(always)]
+            fn bits(self) -> u32 {
+                self.to_bitmask()
+            }
+        }
+    };
+}
+
+accept!(f32x4);
+accept!(f32x8);
+
+/// The lanes (as bits) of a Möller–Trumbore result `[det, t, u, v]` that the scalar
+/// [`Triangle::intersect`] accepts: `det ≠ 0`, `0 ≤ u ≤ 1`, `v ≥ 0`, `u + v ≤ 1` and
+/// `0 < t < limit`. Comparisons with a NaN are false (`≠` true), so NaN lanes drop out
+/// as in the scalar test.
+#[inline(always)]
+pub(super) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
+    let (zero, one) = (T::ZERO, T::ONE);
+    let ok = det.ne(zero) & u.ge(zero) & u.le(one) & v.ge(zero) & (u + v).le(one) & t.gt(zero) & t.lt(limit);
+    ok.bits()
+}
+
 /// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
 /// equals (blocks keep their primitives in index order, and a pair of blocks the
 /// first one's before the second one's, so this is the lowest index).
@@ -158,17 +226,7 @@ impl Block for Tri4 {
             &self.e2.map(|a| load(&a)),
             f32x4::ONE,
         );
-        let zero = f32x4::ZERO;
-        let one = f32x4::ONE;
-        // Comparisons with a NaN are false, so NaN lanes drop out as in the scalar test.
-        let ok = det.simd_ne(zero)
-            & u.simd_ge(zero)
-            & u.simd_le(one)
-            & v.simd_ge(zero)
-            & (u + v).simd_le(one)
-            & t.simd_gt(zero)
-            & t.simd_lt(f32x4::splat(t_max));
-        (t, u, v, ok.to_bitmask())
+        (t, u, v, accepted([det, t, u, v], f32x4::splat(t_max)))
     }
 
     #[inline(always)]

@@ -124,6 +124,16 @@ fn offset_scale(p: Vec3, ray: &Ray, t: f32) -> f32 {
     OFFSET_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
 }
 
+/// An eye ray's colour for the image: a NaN or infinity never reaches it (black).
+#[inline]
+fn finite_or_black(c: Vec3) -> Vec3 {
+    if c.is_finite() {
+        c
+    } else {
+        Vec3::ZERO
+    }
+}
+
 impl<'a> Tracer<'a> {
     /// Prepares lighting for `scene`, traced through `bvh`.
     pub fn new(scene: &'a Scene, bvh: &'a Bvh, max_depth: u32) -> Self {
@@ -146,13 +156,7 @@ impl<'a> Tracer<'a> {
     #[inline]
     pub fn trace_eye_recorded<R: Recorder>(&self, ray: &Ray, stats: &mut Stats, rec: &mut R) -> Vec3 {
         stats.eye_rays += 1;
-        let c = self.trace(ray, 1, stats, rec);
-        // A NaN or infinity never reaches the image.
-        if c.is_finite() {
-            c
-        } else {
-            Vec3::ZERO
-        }
+        finite_or_black(self.trace(ray, 1, stats, rec))
     }
 
     /// The colour seen along `ray` at ray-tree depth `depth`.
@@ -172,8 +176,7 @@ impl<'a> Tracer<'a> {
             self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
             for (ray, &found) in packet.iter().zip(hits.iter()) {
                 stats.eye_rays += 1;
-                let c = self.shade(ray, 1, found, stats, &mut NoRecord);
-                out.push(if c.is_finite() { c } else { Vec3::ZERO });
+                out.push(finite_or_black(self.shade(ray, 1, found, stats, &mut NoRecord)));
             }
         }
     }
