@@ -275,8 +275,9 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
-        STACK.with_borrow_mut(|stack| {
-            stack.clear();
+        STACK.with_borrow_mut(|buffer| {
+            let stack = self.stack_of(buffer);
+            let mut sp = 0usize;
             let mut index = 0u32;
             loop {
                 let node = &self.wide[index as usize];
@@ -320,18 +321,22 @@ impl Bvh {
                         } else {
                             (a, b)
                         };
-                        stack.push(child(far));
+                        stack[sp] = child(far);
+                        sp += 1;
                         if inner == 0 {
                             Some(child(near))
                         } else {
-                            let base = stack.len() - 1;
-                            stack.push(child(near));
+                            let base = sp - 1;
+                            stack[sp] = child(near);
+                            sp += 1;
                             while inner != 0 {
-                                stack.push(child(inner.trailing_zeros()));
+                                stack[sp] = child(inner.trailing_zeros());
+                                sp += 1;
                                 inner &= inner - 1;
                             }
-                            sort_descending(&mut stack[base..]);
-                            stack.pop()
+                            sort_descending(&mut stack[base..sp]);
+                            sp -= 1;
+                            Some(stack[sp])
                         }
                     }
                 };
@@ -339,13 +344,14 @@ impl Bvh {
                 match next.filter(|&(_, t)| t < nearest.limit) {
                     Some((next, _)) => index = next,
                     None => loop {
-                        match stack.pop() {
-                            Some((next, t_entry)) if t_entry < nearest.limit => {
-                                index = next;
-                                break;
-                            }
-                            Some(_) => {}
-                            None => return,
+                        if sp == 0 {
+                            return;
+                        }
+                        sp -= 1;
+                        let (next, t_entry) = stack[sp];
+                        if t_entry < nearest.limit {
+                            index = next;
+                            break;
                         }
                     },
                 }
@@ -400,6 +406,18 @@ impl Bvh {
                 nearest.offer(h, (first + k) as u32);
             }
         }
+    }
+
+    /// `buffer` grown to the most entries a traversal stacks: fewer than [`WIDTH`] per
+    /// level of the tree (a node stacks at most all its children but the one it
+    /// descends into, and pops back to a level only once everything deeper is done).
+    #[inline(always)]
+    fn stack_of<'a>(&self, buffer: &'a mut Vec<(u32, f32)>) -> &'a mut [(u32, f32)] {
+        let need = WIDTH * (self.depth as usize + 1);
+        if buffer.len() < need {
+            buffer.resize(need, (0, 0.0));
+        }
+        buffer
     }
 
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
@@ -490,8 +508,9 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
-        STACK.with_borrow_mut(|stack| {
-            stack.clear();
+        STACK.with_borrow_mut(|buffer| {
+            let stack = self.stack_of(buffer);
+            let mut sp = 0usize;
             let mut index = 0u32;
             loop {
                 let node = &self.wide[index as usize];
@@ -506,7 +525,10 @@ impl Bvh {
                         // Go straight on to the first child entered, stack the others.
                         match next {
                             None => next = Some(node.child[lane]),
-                            Some(_) => stack.push((node.child[lane], 0.0)),
+                            Some(_) => {
+                                stack[sp] = (node.child[lane], 0.0);
+                                sp += 1;
+                            }
                         }
                         continue;
                     }
@@ -515,8 +537,12 @@ impl Bvh {
                         return Some(p);
                     }
                 }
-                match next.or_else(|| stack.pop().map(|(node, _)| node)) {
+                match next {
                     Some(n) => index = n,
+                    None if sp > 0 => {
+                        sp -= 1;
+                        index = stack[sp].0;
+                    }
                     None => return None,
                 }
             }
