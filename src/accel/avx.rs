@@ -232,11 +232,7 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
     let mut near = _mm256_setzero_ps();
     let mut far = _mm256_set1_ps(t_max);
     for axis in 0..3 {
-        let (lo, hi) = if r.inv[axis] < 0.0 {
-            (&node.max[axis], &node.min[axis])
-        } else {
-            (&node.min[axis], &node.max[axis])
-        };
+        let (lo, hi) = r.planes(node, axis);
         let origin = _mm256_set1_ps(r.origin[axis]);
         let inv = _mm256_set1_ps(r.inv[axis]);
         let (lo, hi) = (load8(lo), load8(hi));
@@ -253,7 +249,7 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::wide::Portable;
+    use crate::accel::wide::{Portable, MAX, MIN};
     use crate::math::Vec3;
 
     /// The AVX slab test gives the portable one's distances and masks bit for bit, on
@@ -265,8 +261,7 @@ mod tests {
             return;
         };
         let mut node = Node8 {
-            min: [[f32::INFINITY; WIDTH]; 3],
-            max: [[f32::INFINITY; WIDTH]; 3],
+            bounds: [[[f32::INFINITY; WIDTH]; 3]; 2],
             child: [u32::MAX; WIDTH],
             count: [0; WIDTH],
         };
@@ -281,8 +276,8 @@ mod tests {
         ];
         for (lane, (lo, hi)) in boxes.iter().enumerate() {
             for axis in 0..3 {
-                node.min[axis][lane] = lo[axis];
-                node.max[axis][lane] = hi[axis];
+                node.bounds[MIN][axis][lane] = lo[axis];
+                node.bounds[MAX][axis][lane] = hi[axis];
             }
         }
         let mut entered = 0;

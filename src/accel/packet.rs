@@ -26,7 +26,7 @@ use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
 use super::ray8::{Ray8, RAYS};
 use super::tri4::Ray4;
-use super::wide::{Kernels, Node8, Portable, RayBoxes, WIDTH};
+use super::wide::{Kernels, Node8, Portable, RayBoxes, MAX, MIN, WIDTH};
 use crate::geometry::Hit;
 use crate::math::{Ray, TINY_DIR};
 
@@ -121,9 +121,9 @@ impl Interval {
             let [o_lo, o_hi] = self.origin[axis];
             let [inv_lo, inv_hi] = self.inv[axis].map(f32x8::splat);
             let (entry, exit, o_entry, o_exit) = if self.negative[axis] {
-                (&node.max[axis], &node.min[axis], o_lo, o_hi)
+                (&node.bounds[MAX][axis], &node.bounds[MIN][axis], o_lo, o_hi)
             } else {
-                (&node.min[axis], &node.max[axis], o_hi, o_lo)
+                (&node.bounds[MIN][axis], &node.bounds[MAX][axis], o_hi, o_lo)
             };
             let d_entry = f32x8::from(*entry) - o_entry;
             let d_exit = f32x8::from(*exit) - o_exit;
@@ -248,7 +248,7 @@ impl Bvh {
                         inner_coherent[lane] = match &interval {
                             Some(iv) if coherent => {
                                 let size = (0..3)
-                                    .map(|a| node.max[a][lane] - node.min[a][lane])
+                                    .map(|a| node.bounds[MAX][a][lane] - node.bounds[MIN][a][lane])
                                     .fold(0.0f32, f32::max);
                                 iv.worth_it(size, lane_near[lane])
                             }

@@ -26,10 +26,9 @@ pub const WIDTH: usize = 8;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct Node8 {
-    /// Lower box corners, `[axis][lane]`.
-    pub min: [[f32; WIDTH]; 3],
-    /// Upper box corners, `[axis][lane]`.
-    pub max: [[f32; WIDTH]; 3],
+    /// Box corners, `[side][axis][lane]`: side [`MIN`] the lower corners, [`MAX`]
+    /// the upper ones.
+    pub bounds: [[[f32; WIDTH]; 3]; 2],
     /// Child node index or first primitive, per lane.
     pub child: [u32; WIDTH],
     /// Primitive count per lane (0: interior or empty).
@@ -38,9 +37,13 @@ pub struct Node8 {
 
 const _: () = assert!(std::mem::size_of::<Node8>() == 256);
 
+/// The side of [`Node8::bounds`] holding the lower corners.
+pub const MIN: usize = 0;
+/// The side of [`Node8::bounds`] holding the upper corners.
+pub const MAX: usize = 1;
+
 const EMPTY: Node8 = Node8 {
-    min: [[f32::INFINITY; WIDTH]; 3],
-    max: [[f32::INFINITY; WIDTH]; 3],
+    bounds: [[[f32::INFINITY; WIDTH]; 3]; 2],
     child: [u32::MAX; WIDTH],
     count: [0; WIDTH],
 };
@@ -56,6 +59,11 @@ pub struct RayBoxes {
     /// with `Ray::inv_dir`'s huge finite value it would compute 0 and close the box at
     /// t = 0, missing the primitives in the face.
     pub(super) inv: [f32; 3],
+    /// Per axis, the side of [`Node8::bounds`] the ray enters boxes through: [`MIN`]
+    /// for a positive `inv`, else [`MAX`] (it leaves through the other). Chosen once
+    /// per ray rather than at every node: the sign test there was a branch the
+    /// processor mispredicted on random rays (7 to 14 % of their time, BENCHMARKS.md).
+    pub(super) near: [usize; 3],
 }
 
 impl RayBoxes {
@@ -63,17 +71,27 @@ impl RayBoxes {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
         let dir = ray.dir.to_array();
-        let inv = ray.inv_dir.to_array();
+        let inv_dir = ray.inv_dir.to_array();
+        let inv: [f32; 3] = std::array::from_fn(|a| {
+            if dir[a].abs() < TINY_DIR {
+                f32::INFINITY.copysign(inv_dir[a])
+            } else {
+                inv_dir[a]
+            }
+        });
         RayBoxes {
             origin: ray.origin.to_array(),
-            inv: std::array::from_fn(|a| {
-                if dir[a].abs() < TINY_DIR {
-                    f32::INFINITY.copysign(inv[a])
-                } else {
-                    inv[a]
-                }
-            }),
+            inv,
+            near: inv.map(|i| if i < 0.0 { MAX } else { MIN }),
         }
+    }
+
+    /// The rows of `node`'s near and far planes on `axis` (see [`RayBoxes::near`]).
+    #[inline(always)]
+    pub(super) fn planes<'n>(&self, node: &'n Node8, axis: usize) -> (&'n [f32; WIDTH], &'n [f32; WIDTH]) {
+        // `& 1` (a no-op on MIN and MAX) spares the bounds checks.
+        let near = self.near[axis] & 1;
+        (&node.bounds[near][axis], &node.bounds[near ^ 1][axis])
     }
 }
 
@@ -95,13 +113,7 @@ impl Node8 {
             // The near plane is the min plane for a positive direction, else the max.
             // `a.fast_max(b)` is `a > b ? a : b` (one `maxps`), so a NaN `a` (a ray in
             // the plane, see `RayBoxes::inv`) leaves `b`, the bound so far.
-            // (A sign test of `inv` here, not a stored flag: flags stored as bytes and
-            // reloaded together stall store forwarding at the start of every query.)
-            let (lo, hi) = if r.inv[axis] < 0.0 {
-                (&self.max[axis], &self.min[axis])
-            } else {
-                (&self.min[axis], &self.max[axis])
-            };
+            let (lo, hi) = r.planes(self, axis);
             near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
             far = ((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]).fast_min(far);
         }
@@ -181,8 +193,8 @@ fn collapse_node(binary: &[BvhNode], index: usize, out: &mut Vec<Node8>) -> u32 
     for (lane, &k) in kids.iter().enumerate() {
         let b = &binary[k];
         for axis in 0..3 {
-            node.min[axis][lane] = b.min[axis];
-            node.max[axis][lane] = b.max[axis];
+            node.bounds[MIN][axis][lane] = b.min[axis];
+            node.bounds[MAX][axis][lane] = b.max[axis];
         }
         if b.is_leaf() {
             node.child[lane] = b.first;
