@@ -65,6 +65,7 @@ impl Item {
         match self.max.to_array()[3].to_bits() {
             1 => Pack::Triangle,
             2 => Pack::Sphere,
+            3 => Pack::Cone,
             _ => Pack::Alone,
         }
     }

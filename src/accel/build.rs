@@ -21,6 +21,8 @@ const TRAVERSAL_COST: f32 = 1.0;
 pub const TRIANGLES_PER_TEST: u32 = 8;
 /// Spheres are tested this many at a time (one block of four).
 pub const SPHERES_PER_TEST: u32 = 4;
+/// Cones are tested this many at a time (one block of four).
+pub const CONES_PER_TEST: u32 = 4;
 /// Leaves never exceed this many primitives unless their centroids coincide.
 pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
@@ -50,6 +52,8 @@ pub enum Pack {
     Triangle = 1,
     /// In a block of spheres.
     Sphere = 2,
+    /// In a block of cones.
+    Cone = 3,
 }
 
 /// How many primitives of a set pack in each kind of block.
@@ -59,6 +63,8 @@ pub struct Packs {
     pub triangles: u32,
     /// Primitives that pack with spheres.
     pub spheres: u32,
+    /// Primitives that pack with cones.
+    pub cones: u32,
 }
 
 impl Packs {
@@ -68,6 +74,7 @@ impl Packs {
         Packs {
             triangles: u32::from(pack == Pack::Triangle),
             spheres: u32::from(pack == Pack::Sphere),
+            cones: u32::from(pack == Pack::Cone),
         }
     }
 
@@ -85,18 +92,22 @@ impl Packs {
     pub fn add(&mut self, other: Packs) {
         self.triangles += other.triangles;
         self.spheres += other.spheres;
+        self.cones += other.cones;
     }
 }
 
 /// SAH cost of intersecting a leaf of `n` primitives with `packs` among them: a leaf
 /// made only of triangles costs one test per [`TRIANGLES_PER_TEST`], one made only of
-/// spheres one per [`SPHERES_PER_TEST`], any other leaf one per primitive.
+/// spheres or only of cones one per [`SPHERES_PER_TEST`] or [`CONES_PER_TEST`], any
+/// other leaf one per primitive.
 #[inline]
 pub fn leaf_cost(n: u32, packs: Packs) -> f32 {
     if packs.triangles == n {
         n.div_ceil(TRIANGLES_PER_TEST) as f32
     } else if packs.spheres == n {
         n.div_ceil(SPHERES_PER_TEST) as f32
+    } else if packs.cones == n {
+        n.div_ceil(CONES_PER_TEST) as f32
     } else {
         n as f32
     }

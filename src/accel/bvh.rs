@@ -5,6 +5,7 @@ use std::cell::{Cell, RefCell};
 
 #[cfg(target_arch = "x86_64")]
 use super::avx::Avx;
+use super::cone4::Cone4;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::sphere4::Sphere4;
@@ -61,12 +62,18 @@ pub(super) const TRI4_LEAF: usize = 1 << 31;
 /// `child` is the first of `count & !SPHERE4_LEAF` [`Sphere4`] blocks.
 pub(super) const SPHERE4_LEAF: usize = 1 << 30;
 
-/// The kind of block `p` is tested in (see [`build::Pack`]): triangles and spheres
-/// visible from outside pack four to a block; everything else is tested alone.
+/// Marks a wide leaf lane whose primitives are all cones packed in blocks: its
+/// `child` is the first of `count & !CONE4_LEAF` [`Cone4`] blocks.
+pub(super) const CONE4_LEAF: usize = 1 << 29;
+
+/// The kind of block `p` is tested in (see [`build::Pack`]): triangles, and spheres
+/// and (non-degenerate) cones visible from outside, pack four to a block; everything
+/// else is tested alone.
 pub(super) fn pack_of(p: &Primitive) -> Pack {
     match p.shape {
         Shape::Triangle(_) => Pack::Triangle,
         Shape::Sphere(s) if !s.inside => Pack::Sphere,
+        Shape::Cone(c) if !c.inside && c.length > 0.0 => Pack::Cone,
         _ => Pack::Alone,
     }
 }
@@ -76,11 +83,14 @@ pub(super) fn pack_of(p: &Primitive) -> Pack {
 struct Blocks {
     tri4: Vec<Tri4>,
     sphere4: Vec<Sphere4>,
+    cone4: Vec<Cone4>,
 }
 
 /// Repacks every wide leaf lane made only of triangles into [`Tri4`] blocks (marked
-/// with [`TRI4_LEAF`]) and every one made only of packable spheres into [`Sphere4`]
-/// blocks (marked with [`SPHERE4_LEAF`]); other leaves keep pointing at `primitives`.
+/// with [`TRI4_LEAF`]), every one made only of packable spheres into [`Sphere4`]
+/// blocks (marked with [`SPHERE4_LEAF`]) and every one made only of packable cones
+/// into [`Cone4`] blocks (marked with [`CONE4_LEAF`]); other leaves keep pointing at
+/// `primitives`.
 fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
     let mut blocks = Blocks::default();
     for node in wide.iter_mut() {
@@ -102,6 +112,10 @@ fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
                 Shape::Sphere(s) => Some(*s),
                 _ => None,
             };
+            let cone = |s: &Shape| match s {
+                Shape::Cone(c) => Some(*c),
+                _ => None,
+            };
             let (range, mark) = match kind {
                 Pack::Alone => continue,
                 Pack::Triangle => (
@@ -111,6 +125,10 @@ fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
                 Pack::Sphere => (
                     pack_into(leaf, first, sphere, Sphere4::new, &mut blocks.sphere4),
                     SPHERE4_LEAF,
+                ),
+                Pack::Cone => (
+                    pack_into(leaf, first, cone, Cone4::new, &mut blocks.cone4),
+                    CONE4_LEAF,
                 ),
             };
             node.child[lane] = range.start as u32;
@@ -162,12 +180,15 @@ pub struct Bvh {
     pub(super) nodes: Vec<BvhNode>,
     /// The same tree collapsed to 8-wide nodes, used by the queries. A leaf lane made
     /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`]), one made only of
-    /// packable spheres to [`Sphere4`] blocks (see [`SPHERE4_LEAF`]).
+    /// packable spheres to [`Sphere4`] blocks (see [`SPHERE4_LEAF`]), one made only of
+    /// packable cones to [`Cone4`] blocks (see [`CONE4_LEAF`]).
     pub(super) wide: Vec<Node8>,
     /// The triangles of all-triangle leaves, four to a block, in leaf order.
     pub(super) tri4: Vec<Tri4>,
     /// The spheres of all-sphere leaves, four to a block, in leaf order.
     pub(super) sphere4: Vec<Sphere4>,
+    /// The cones of all-cone leaves, four to a block, in leaf order.
+    pub(super) cone4: Vec<Cone4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
     pub(super) primitives: Vec<Primitive>,
     pub(super) bounded: usize,
@@ -209,12 +230,13 @@ impl Bvh {
         } else {
             Vec::new()
         };
-        let Blocks { tri4, sphere4 } = pack_leaves(&mut wide, &ordered);
+        let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered);
         Bvh {
             nodes: built.nodes,
             wide,
             tri4,
             sphere4,
+            cone4,
             primitives: ordered,
             bounded: n_bounded,
             data,
@@ -362,8 +384,8 @@ impl Bvh {
 
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
     /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
-    /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`], else
-    /// primitives.
+    /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`],
+    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives.
     #[inline(always)]
     pub(super) fn leaf_closest<S: Kernels>(
         &self,
@@ -376,6 +398,12 @@ impl Bvh {
     ) {
         if count & SPHERE4_LEAF != 0 {
             let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            blocks_closest(blocks, ray4, nearest);
+            return;
+        }
+        if count & CONE4_LEAF != 0 {
+            let blocks = &self.cone4[first..first + (count & !CONE4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
             blocks_closest(blocks, ray4, nearest);
             return;
@@ -469,6 +497,11 @@ impl Bvh {
     ) -> Option<u32> {
         if count & SPHERE4_LEAF != 0 {
             let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+        }
+        if count & CONE4_LEAF != 0 {
+            let blocks = &self.cone4[first..first + (count & !CONE4_LEAF)];
             count!(PRIMS, blocks.len() * LANES);
             return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
         }

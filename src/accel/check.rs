@@ -26,8 +26,8 @@ pub struct BvhStats {
     pub mean_leaf: f64,
     /// SAH cost: expected node visits plus primitive tests for a random ray that hits
     /// the root box (traversal and intersection weighted 1 each; a leaf of triangles
-    /// counts one test per eight, one of spheres per four, as they are intersected;
-    /// see `build::leaf_cost`).
+    /// counts one test per eight, one of spheres or of cones per four, as they are
+    /// intersected; see `build::leaf_cost`).
     pub sah_cost: f64,
     /// Bounded primitives in the tree.
     pub primitives: usize,

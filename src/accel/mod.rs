@@ -8,6 +8,7 @@ mod binning;
 mod build;
 mod bvh;
 mod check;
+mod cone4;
 mod nearest;
 mod node;
 mod packet;

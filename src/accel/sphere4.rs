@@ -10,7 +10,7 @@
 
 use wide::f32x4;
 
-use super::tri4::{Block, Ray4, LANES};
+use super::tri4::{dot, Block, Ray4, LANES};
 use crate::geometry::SphereShape;
 
 /// Up to four spheres that are visible from outside (`inside` false): centres
@@ -28,22 +28,16 @@ pub struct Sphere4 {
 
 const _: () = assert!(std::mem::size_of::<Sphere4>() == 80);
 
-/// `a · b` per lane, summed left to right as in `Vec3::dot`.
-#[inline(always)]
-fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 /// `f32::min` per lane: a NaN operand gives the other one (`fast_min` alone gives
 /// its second operand).
 #[inline(always)]
-fn min(a: f32x4, b: f32x4) -> f32x4 {
+pub(super) fn min(a: f32x4, b: f32x4) -> f32x4 {
     b.is_nan().bitselect(a, a.fast_min(b))
 }
 
 /// `f32::max` per lane, NaN as in [`min`].
 #[inline(always)]
-fn max(a: f32x4, b: f32x4) -> f32x4 {
+pub(super) fn max(a: f32x4, b: f32x4) -> f32x4 {
     b.is_nan().bitselect(a, a.fast_max(b))
 }
 

@@ -4,7 +4,7 @@
 use super::Bvh;
 use crate::geometry::build_geometry;
 use crate::math::{Ray, Vec3};
-use crate::scene::{Material, Polygon, Scene, Sphere};
+use crate::scene::{Cone, Material, Polygon, Scene, Sphere};
 use proptest::prelude::*;
 
 fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
@@ -86,7 +86,7 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
     let one_by_one = build(&cubes, &[Pack::Alone; 4]);
     assert_eq!(one_by_one.nodes[0].count, 0, "split at the root");
     assert_eq!(one_by_one.nodes.len(), 7, "four leaves of one");
-    for pack in [Pack::Triangle, Pack::Sphere] {
+    for pack in [Pack::Triangle, Pack::Sphere, Pack::Cone] {
         let blocks = build(&cubes, &[pack; 4]);
         assert_eq!(blocks.nodes.len(), 1, "one leaf of {pack:?}");
         assert_eq!(blocks.nodes[0].count, 4);
@@ -96,14 +96,22 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
         &[Pack::Triangle, Pack::Sphere, Pack::Triangle, Pack::Sphere],
     );
     assert_eq!(mixed.nodes[0].count, 0, "mixed kinds split at the root");
-    let packs = |triangles, spheres| Packs { triangles, spheres };
-    // Eight triangles to a test (two blocks of four), four spheres (one block).
-    assert_eq!(leaf_cost(8, packs(8, 0)), 1.0);
-    assert_eq!(leaf_cost(9, packs(9, 0)), 2.0);
-    assert_eq!(leaf_cost(4, packs(0, 4)), 1.0);
-    assert_eq!(leaf_cost(5, packs(0, 5)), 2.0);
-    assert_eq!(leaf_cost(4, packs(3, 0)), 4.0);
-    assert_eq!(leaf_cost(4, packs(2, 2)), 4.0);
+    let packs = |triangles, spheres, cones| Packs {
+        triangles,
+        spheres,
+        cones,
+    };
+    // Eight triangles to a test (two blocks of four), four spheres or four cones (one
+    // block).
+    assert_eq!(leaf_cost(8, packs(8, 0, 0)), 1.0);
+    assert_eq!(leaf_cost(9, packs(9, 0, 0)), 2.0);
+    assert_eq!(leaf_cost(4, packs(0, 4, 0)), 1.0);
+    assert_eq!(leaf_cost(5, packs(0, 5, 0)), 2.0);
+    assert_eq!(leaf_cost(4, packs(0, 0, 4)), 1.0);
+    assert_eq!(leaf_cost(6, packs(0, 0, 6)), 2.0);
+    assert_eq!(leaf_cost(4, packs(3, 0, 0)), 4.0);
+    assert_eq!(leaf_cost(4, packs(2, 2, 0)), 4.0);
+    assert_eq!(leaf_cost(4, packs(0, 2, 2)), 4.0);
 }
 
 #[test]
@@ -206,13 +214,43 @@ fn deep_trees_agree_with_brute_force() {
             [a, a + point(0.8), a + point(0.8)]
         })
         .collect();
-    let bvh = bvh_of(&scene_with(&spheres, &tris));
+    let mut scene = scene_with(&spheres, &tris);
+    // Cones and cylinders: scattered, in clusters of six (leaves of several cones,
+    // tested in blocks), and a few inside-only ones (tested alone).
+    let mut cone = |base: Vec3, r: f32, apex: Vec3, ra: f32| {
+        scene.cones.push(Cone {
+            base,
+            base_radius: r,
+            apex,
+            apex_radius: ra,
+            material: 0,
+            line: 1,
+        })
+    };
+    for i in 0..300 {
+        let base = point(20.0);
+        cone(base, 0.2, base + point(1.5), if i % 2 == 0 { 0.2 } else { 0.05 });
+    }
+    for _ in 0..25 {
+        let c = point(20.0);
+        for _ in 0..6 {
+            let base = c + point(0.5);
+            cone(base, 0.1, base + point(0.4), 0.1);
+        }
+    }
+    for _ in 0..10 {
+        let base = point(20.0);
+        cone(base, -0.5, base + point(1.0), -0.3);
+    }
+    let bvh = bvh_of(&scene);
     assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
     let shared = bvh.sphere4.iter().filter(|b| b.prim[1] != u32::MAX).count();
     assert!(
         shared >= 20,
         "only {shared} sphere blocks hold more than one sphere"
     );
+    let shared = bvh.cone4.iter().filter(|b| b.prim[1] != u32::MAX).count();
+    assert!(shared >= 20, "only {shared} cone blocks hold more than one cone");
     let mut hits = 0;
     for _ in 0..3000 {
         let origin = point(25.0);

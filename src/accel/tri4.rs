@@ -59,7 +59,7 @@ fn load(a: &[f32; LANES]) -> f32x4 {
 
 /// `a × b` per lane, component order as in `Vec3::cross`.
 #[inline(always)]
-fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
+pub(super) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -69,7 +69,7 @@ fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) ->
 
 /// `a · b` per lane, summed left to right as in `Vec3::dot`.
 #[inline(always)]
-fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
+pub(super) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
