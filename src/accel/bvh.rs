@@ -455,8 +455,9 @@ impl Bvh {
     }
 
     /// [`Bvh::occluded`] that first tries primitive `hint` (an index from an earlier
-    /// query; any value is safe) and leaves in it the occluder found, if any: neighbouring
-    /// shadow rays are usually blocked by the same primitive (Haines' shadow cache). The
+    /// query; any value is safe, `u32::MAX` for none) and leaves in it the occluder
+    /// found, or `u32::MAX` when nothing blocks the ray: neighbouring shadow rays are
+    /// usually blocked by the same primitive (Haines' shadow cache), or all lit. The
     /// answer is the same as `occluded`'s.
     #[inline]
     pub fn occluded_hinted(&self, ray: &Ray, t_max: f32, hint: &Cell<u32>) -> bool {
@@ -470,7 +471,12 @@ impl Bvh {
                 hint.set(index);
                 true
             }
-            None => false,
+            None => {
+                // Lit: the next ray (a neighbour) most likely is too, and then skips
+                // testing a stale hint.
+                hint.set(u32::MAX);
+                false
+            }
         }
     }
 

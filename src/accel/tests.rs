@@ -169,14 +169,17 @@ proptest! {
                 let any = bvh.closest_hit_linear(&r, t_max).is_some();
                 prop_assert_eq!(bvh.occluded(&r, t_max), any);
                 // The shadow cache never changes the answer, whatever the hint holds
-                // (nothing, a primitive, a stale index past the end); a found occluder
-                // is left in it and really lies on the ray.
+                // (nothing, a primitive, a stale index past the end); afterwards it
+                // holds a primitive that really lies on the ray when one does, and
+                // nothing when none does.
                 for start in [u32::MAX, 0, 7, 1000] {
                     let hint = std::cell::Cell::new(start);
                     prop_assert_eq!(bvh.occluded_hinted(&r, t_max, &hint), any);
-                    if hint.get() != start {
+                    if any {
                         let p = bvh.primitive(hint.get());
                         prop_assert!(p.intersect(&r, t_max, bvh.data()).is_some());
+                    } else {
+                        prop_assert_eq!(hint.get(), u32::MAX);
                     }
                 }
             }
