@@ -142,7 +142,7 @@ impl Block for Cone4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Hit;
+    use crate::accel::tri4::assert_blocks_match_scalar;
     use crate::math::{Ray, Vec3};
 
     /// Cones and rays reaching every branch of the scalar test: quick rejections,
@@ -193,32 +193,7 @@ mod tests {
     #[test]
     fn each_lane_matches_the_scalar_test_bit_for_bit() {
         let (cones, rays) = cases();
-        for first in 0..cones.len() - 1 {
-            let chunk: Vec<(ConeShape, u32)> = cones[first..]
-                .iter()
-                .take(LANES)
-                .enumerate()
-                .map(|(k, c)| (*c, 10 + k as u32))
-                .collect();
-            let block = Cone4::new(&chunk);
-            for (i, (ray, t_max)) in rays.iter().enumerate() {
-                let expected = chunk
-                    .iter()
-                    .filter_map(|(c, prim)| c.intersect(ray, *t_max).map(|h| (h, *prim)))
-                    .fold(None::<(Hit, u32)>, |best, h| match best {
-                        Some(b) if b.0.t <= h.0.t => Some(b),
-                        _ => Some(h),
-                    });
-                let ray4 = Ray4::new(ray);
-                let got = block.closest_hit(&ray4, *t_max);
-                assert_eq!(
-                    got.map(|(h, p)| (h.t.to_bits(), p)),
-                    expected.map(|(h, p)| (h.t.to_bits(), p)),
-                    "block {first}, ray {i}"
-                );
-                assert_eq!(block.any_hit(&ray4, *t_max).is_some(), expected.is_some());
-            }
-        }
+        assert_blocks_match_scalar(&cones, &rays, Cone4::new, |c, ray, t_max| c.intersect(ray, t_max));
     }
 
     /// Many rays from a fixed pseudo-random sequence, aimed near the cones (so that
@@ -227,13 +202,8 @@ mod tests {
     #[test]
     fn random_rays_match_the_scalar_test_bit_for_bit() {
         let (cones, _) = cases();
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut uniform = crate::accel::tests::uniform(0x2545_f491_4f6c_dd1d);
+        let mut next = move || uniform() * 2.0 - 1.0;
         let mut hits = 0;
         for chunk in cones.chunks(LANES) {
             let lanes: Vec<(ConeShape, u32)> = chunk.iter().map(|c| (*c, 0)).collect();

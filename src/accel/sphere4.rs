@@ -107,7 +107,7 @@ impl Block for Sphere4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Hit;
+    use crate::accel::tri4::assert_blocks_match_scalar;
     use crate::math::{Ray, Vec3};
 
     /// Spheres and rays chosen to reach every branch of the scalar test: misses, the
@@ -143,32 +143,9 @@ mod tests {
     #[test]
     fn each_lane_matches_the_scalar_test_bit_for_bit() {
         let (spheres, rays) = cases();
-        for first in 0..spheres.len() - 1 {
-            let chunk: Vec<(SphereShape, u32)> = spheres[first..]
-                .iter()
-                .take(LANES)
-                .enumerate()
-                .map(|(k, s)| (*s, 10 + k as u32))
-                .collect();
-            let block = Sphere4::new(&chunk);
-            for (i, (ray, t_max)) in rays.iter().enumerate() {
-                let expected = chunk
-                    .iter()
-                    .filter_map(|(s, prim)| s.intersect(ray, *t_max).map(|h| (h, *prim)))
-                    .fold(None::<(Hit, u32)>, |best, h| match best {
-                        Some(b) if b.0.t <= h.0.t => Some(b),
-                        _ => Some(h),
-                    });
-                let ray4 = Ray4::new(ray);
-                let got = block.closest_hit(&ray4, *t_max);
-                assert_eq!(
-                    got.map(|(h, p)| (h.t.to_bits(), p)),
-                    expected.map(|(h, p)| (h.t.to_bits(), p)),
-                    "block {first}, ray {i}"
-                );
-                assert_eq!(block.any_hit(&ray4, *t_max).is_some(), expected.is_some());
-            }
-        }
+        assert_blocks_match_scalar(&spheres, &rays, Sphere4::new, |s, ray, t_max| {
+            s.intersect(ray, t_max)
+        });
     }
 
     #[test]

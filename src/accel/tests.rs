@@ -33,6 +33,18 @@ fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
     s
 }
 
+/// A fixed-seed xorshift generator of floats uniform in `[0, 1)`, for reproducible
+/// random scenes and rays (`seed` must not be zero).
+pub(super) fn uniform(seed: u64) -> impl FnMut() -> f32 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
 fn bvh_of(scene: &Scene) -> Bvh {
     let bvh = Bvh::new(build_geometry(scene));
     bvh.validate().unwrap();
@@ -191,13 +203,8 @@ proptest! {
 /// through its stack (the proptest scenes above are mostly one or two levels).
 #[test]
 fn deep_trees_agree_with_brute_force() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-    };
+    let mut uniform = uniform(0x2545_f491_4f6c_dd1d);
+    let mut next = move || uniform() * 2.0 - 1.0;
     let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
     let mut spheres: Vec<(Vec3, f32)> = (0..500).map(|_| (point(20.0), 0.2)).collect();
     // Clusters of eight (leaves of several spheres, tested in blocks) and a few
@@ -283,13 +290,7 @@ fn deep_trees_agree_with_brute_force() {
 /// Boxes for the builder tests: `n` random ones from a fixed-seed generator, shaped
 /// by `kind`.
 fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::Aabb> {
-    let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut next = uniform(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let special = [
         0.0,
         -0.0,

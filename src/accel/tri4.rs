@@ -271,6 +271,46 @@ pub(super) trait Block {
     }
 }
 
+/// Test helper for the blocks: for every run of up to [`LANES`] consecutive shapes of
+/// `shapes` packed by `make` (lane `k` with primitive index `10 + k`), and every ray
+/// and `t_max` of `rays`, the block's nearest hit is the scalar test's (`scalar`)
+/// nearest over those shapes, distance bit for bit and the lowest lane among equals,
+/// and its any-hit query answers exactly when there is one.
+#[cfg(test)]
+pub(super) fn assert_blocks_match_scalar<S: Copy, B: Block>(
+    shapes: &[S],
+    rays: &[(Ray, f32)],
+    make: impl Fn(&[(S, u32)]) -> B,
+    scalar: impl Fn(&S, &Ray, f32) -> Option<Hit>,
+) {
+    for first in 0..shapes.len().saturating_sub(1) {
+        let chunk: Vec<(S, u32)> = shapes[first..]
+            .iter()
+            .take(LANES)
+            .enumerate()
+            .map(|(k, s)| (*s, 10 + k as u32))
+            .collect();
+        let block = make(&chunk);
+        for (i, (ray, t_max)) in rays.iter().enumerate() {
+            let expected = chunk
+                .iter()
+                .filter_map(|(s, prim)| scalar(s, ray, *t_max).map(|h| (h, *prim)))
+                .fold(None::<(Hit, u32)>, |best, h| match best {
+                    Some(b) if b.0.t <= h.0.t => Some(b),
+                    _ => Some(h),
+                });
+            let ray4 = Ray4::new(ray);
+            let got = block.closest_hit(&ray4, *t_max);
+            assert_eq!(
+                got.map(|(h, p)| (h.t.to_bits(), p)),
+                expected.map(|(h, p)| (h.t.to_bits(), p)),
+                "block {first}, ray {i}"
+            );
+            assert_eq!(block.any_hit(&ray4, *t_max).is_some(), expected.is_some());
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
