@@ -7,8 +7,8 @@
 //! operations in the same order, no fused multiply-add; the two per-cone constants it
 //! recomputes for every ray, the larger radius and the axis midpoint, are computed
 //! once here by the same expressions), so hits and distances are bit-identical to
-//! the scalar test's. Most blocks end at the scalar test's quick rejection, before
-//! the division, the square root and the roots.
+//! the scalar test's. A block whose lanes all fail the scalar test's quick rejection
+//! stops there, before the divisions, the square root and the roots.
 
 use wide::f32x4;
 
@@ -19,8 +19,8 @@ use crate::geometry::ConeShape;
 /// Up to four open cones visible from outside, `[axis][lane]` for vectors: the base
 /// centre, the unit axis, the axis midpoint `base + axis · (length / 2)`, the length,
 /// the base radius, the slope, the larger of the two radii, and each lane's primitive
-/// index. Unused lanes have NaN coordinates (every comparison fails, never hit) and
-/// primitive index `u32::MAX`.
+/// index. Unused lanes hold NaNs (a NaN length fails the quick rejection: never hit)
+/// and primitive index `u32::MAX`.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
 pub struct Cone4 {

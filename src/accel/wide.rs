@@ -62,7 +62,7 @@ pub struct RayBoxes {
     /// Per axis, the side of [`Node8::bounds`] the ray enters boxes through: [`MIN`]
     /// for a positive `inv`, else [`MAX`] (it leaves through the other). Chosen once
     /// per ray rather than at every node: the sign test there was a branch the
-    /// processor mispredicted on random rays (7 to 14 % of their time, BENCHMARKS.md).
+    /// processor mispredicted on random rays (7 to 11 % of their time, BENCHMARKS.md).
     pub(super) near: [usize; 3],
 }
 
