@@ -162,6 +162,19 @@ fn pack_into<T, B>(
     start..out.len()
 }
 
+/// The blocks of a leaf lane (`first`, `count` as in a [`Node8`]) when its count
+/// carries `mark` (blocks of one kind, see [`TRI4_LEAF`] and the others), counted as
+/// primitive tests.
+#[inline(always)]
+fn marked<B>(blocks: &[B], first: usize, count: usize, mark: usize) -> Option<&[B]> {
+    if count & mark == 0 {
+        return None;
+    }
+    let blocks = &blocks[first..first + (count & !mark)];
+    count!(PRIMS, blocks.len() * LANES);
+    Some(blocks)
+}
+
 /// Offers to `nearest` the hits of `ray4` in `blocks`, a block at a time.
 #[inline(always)]
 fn blocks_closest<B: Block>(blocks: &[B], ray4: &Ray4, nearest: &mut Nearest) {
@@ -396,21 +409,15 @@ impl Bvh {
         ray4: &Ray4,
         nearest: &mut Nearest,
     ) {
-        if count & SPHERE4_LEAF != 0 {
-            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
             blocks_closest(blocks, ray4, nearest);
             return;
         }
-        if count & CONE4_LEAF != 0 {
-            let blocks = &self.cone4[first..first + (count & !CONE4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
             blocks_closest(blocks, ray4, nearest);
             return;
         }
-        if count & TRI4_LEAF != 0 {
-            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
             // Blocks two at a time (one eight-lane test), the last one alone.
             let mut pairs = blocks.chunks_exact(2);
             for pair in &mut pairs {
@@ -501,19 +508,13 @@ impl Bvh {
         ray4: &Ray4,
         t_max: f32,
     ) -> Option<u32> {
-        if count & SPHERE4_LEAF != 0 {
-            let blocks = &self.sphere4[first..first + (count & !SPHERE4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
             return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
         }
-        if count & CONE4_LEAF != 0 {
-            let blocks = &self.cone4[first..first + (count & !CONE4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
             return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
         }
-        if count & TRI4_LEAF != 0 {
-            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
+        if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
             let mut pairs = blocks.chunks_exact(2);
             for pair in &mut pairs {
                 let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
