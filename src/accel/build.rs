@@ -15,7 +15,7 @@ use crate::math::Aabb;
 
 /// Relative cost of one traversal step against one primitive test (or one test of a
 /// block of packable primitives).
-const TRAVERSAL_COST: f32 = 1.0;
+pub const TRAVERSAL_COST: f32 = 1.0;
 /// Triangles are tested this many at a time (two blocks of four in one eight-lane
 /// test), so a leaf of them costs one test per started group of this size.
 pub const TRIANGLES_PER_TEST: u32 = 8;

@@ -5,12 +5,13 @@ use std::cell::{Cell, RefCell};
 
 #[cfg(target_arch = "x86_64")]
 use super::avx::Avx;
+use super::collapse;
 use super::cone4::Cone4;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::sphere4::Sphere4;
 use super::tri4::{nearest_lane, Block, Ray4, Tri4, LANES};
-use super::wide::{self, Kernels, Node8, Portable, RayBoxes, WIDTH};
+use super::wide::{Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
 use crate::math::Ray;
 
@@ -236,10 +237,11 @@ impl Bvh {
         let packs: Vec<Pack> = bounded.iter().map(pack_of).collect();
         let built = build::build(&bounds, &packs);
         let mut ordered: Vec<Primitive> = built.order.iter().map(|&i| bounded[i as usize]).collect();
+        let leaf_packs: Vec<Pack> = built.order.iter().map(|&i| packs[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
         let mut wide = if n_bounded > 0 {
-            wide::collapse(&built.nodes).0
+            collapse::collapse(&built.nodes, &leaf_packs).0
         } else {
             Vec::new()
         };

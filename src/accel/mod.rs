@@ -8,6 +8,7 @@ mod binning;
 mod build;
 mod bvh;
 mod check;
+mod collapse;
 mod cone4;
 mod nearest;
 mod node;

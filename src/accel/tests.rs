@@ -289,7 +289,7 @@ fn deep_trees_agree_with_brute_force() {
 
 /// Boxes for the builder tests: `n` random ones from a fixed-seed generator, shaped
 /// by `kind`.
-fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::Aabb> {
+pub(super) fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::Aabb> {
     let mut next = uniform(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let special = [
         0.0,

@@ -5,13 +5,11 @@
 //! SSE registers on the x86_64 baseline; `accel::avx` has the same test in one AVX
 //! register, chosen at run time). Eight lanes rather than four halve the levels a ray descends,
 //! each a dependent memory access: on this project's benchmarks that made random rays
-//! 8 to 14 % faster (BENCHMARKS.md). Collapsing repeatedly opens the child with the
-//! largest surface area, the usual greedy rule (Wald et al. 2008, "Getting rid of
-//! packets").
+//! 8 to 14 % faster (BENCHMARKS.md). `accel::collapse` makes them from the binary
+//! tree.
 
 use wide::{f32x8, u32x8};
 
-use super::node::BvhNode;
 use super::ray8::{pair_hits, Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
 use crate::math::{Ray, TINY_DIR};
@@ -42,7 +40,7 @@ pub const MIN: usize = 0;
 /// The side of [`Node8::bounds`] holding the upper corners.
 pub const MAX: usize = 1;
 
-const EMPTY: Node8 = Node8 {
+pub(super) const EMPTY: Node8 = Node8 {
     bounds: [[[f32::INFINITY; WIDTH]; 3]; 2],
     child: [u32::MAX; WIDTH],
     count: [0; WIDTH],
@@ -154,57 +152,4 @@ impl Kernels for Portable {
     fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
         pair_hits(first, second, ray, t_max)
     }
-}
-
-/// Collapses a binary BVH (root at 0, with at least one primitive) into wide nodes
-/// (root at 0). Returns the nodes and the wide tree's depth.
-pub fn collapse(binary: &[BvhNode]) -> (Vec<Node8>, u32) {
-    let mut out = Vec::with_capacity(binary.len() / 2 + 1);
-    let depth = collapse_node(binary, 0, &mut out);
-    (out, depth)
-}
-
-fn collapse_node(binary: &[BvhNode], index: usize, out: &mut Vec<Node8>) -> u32 {
-    let root = &binary[index];
-    let mut kids: Vec<usize> = if root.is_leaf() {
-        vec![index]
-    } else {
-        vec![root.first as usize, root.first as usize + 1]
-    };
-    while kids.len() < WIDTH {
-        let widest = kids
-            .iter()
-            .enumerate()
-            .filter(|(_, &k)| !binary[k].is_leaf())
-            .max_by(|a, b| {
-                binary[*a.1]
-                    .bounds()
-                    .surface_area()
-                    .total_cmp(&binary[*b.1].bounds().surface_area())
-            });
-        let Some((slot, &k)) = widest else { break };
-        kids[slot] = binary[k].first as usize;
-        kids.push(binary[k].first as usize + 1);
-    }
-    let me = out.len();
-    out.push(EMPTY);
-    let mut node = EMPTY;
-    let mut depth = 1;
-    for (lane, &k) in kids.iter().enumerate() {
-        let b = &binary[k];
-        for axis in 0..3 {
-            node.bounds[MIN][axis][lane] = b.min[axis];
-            node.bounds[MAX][axis][lane] = b.max[axis];
-        }
-        if b.is_leaf() {
-            node.child[lane] = b.first;
-            node.count[lane] = b.count;
-        } else {
-            node.child[lane] = out.len() as u32;
-            node.count[lane] = 0;
-            depth = depth.max(1 + collapse_node(binary, k, out));
-        }
-    }
-    out[me] = node;
-    depth
 }
