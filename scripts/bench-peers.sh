@@ -58,29 +58,42 @@ for gen in "balls 3" "balls 4" "balls 5" "balls 6" "mount 5" "mount 7" "mount 9"
 done
 
 if [ -x "$py" ]; then
-    echo "== traversal, single thread, same rays (Mrays/s, median of $runs)"
-    printf '%-18s %-8s %10s %10s %8s %10s %10s\n' scene rays embree nffrt ratio embree-occl nffrt-occl
+    echo "== traversal, single thread, same rays (Mrays/s; each process reports the best and the median of its 10 passes, this table the median over $runs processes; occlusion: best)"
+    printf '%-18s %-8s %9s %9s %7s | %9s %9s %7s | %9s %9s\n' scene rays emb-best nff-best ratio emb-med nff-med ratio emb-occl nff-occl
+    # Embree's per-set median of its passes, from its "closest  1T ... [median]" lines.
+    emb_median() { awk -v set="$1" '/^[a-z]+:/ {cur = $1} cur == set":" && /closest +1T/ {gsub(/[][]/, "", $NF); print $NF}'; }
+    key() { tr ' ' '\n' | grep "^$1=" | cut -d= -f2 | median; }
+    row() { # label set embree-output nffrt-summaries
+        local eb em ob om eo oo
+        eb=$(echo "$3" | grep -h '^scene=' | key "${2}_mrays"); em=$(echo "$3" | emb_median "$2" | median)
+        eo=$(echo "$3" | grep -h '^scene=' | key "${2}_occl_mrays")
+        ob=$(echo "$4" | key rays_best_mrays); om=$(echo "$4" | key rays_mrays); oo=$(echo "$4" | key rays_occl_best_mrays)
+        printf '%-18s %-8s %9.2f %9.2f %7.2f | %9.2f %9.2f %7.2f | %9.2f %9.2f\n' "$1" "$2" "$eb" "$ob" "$(awk -v a="$ob" -v b="$eb" 'BEGIN {print a/b}')" \
+            "$em" "$om" "$(awk -v a="$om" -v b="$em" 'BEGIN {print a/b}')" "$eo" "$oo"
+    }
     for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
         name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
-        "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" --dump-rays "$tmp" >"$tmp/e.txt" 2>/dev/null
-        for set in primary random; do
-            e=$(for _ in $(seq "$runs"); do "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null | tail -1; done)
-            emb=$(echo "$e" | tr ' ' '\n' | grep "^${set}_mrays=" | cut -d= -f2 | median)
-            embo=$(echo "$e" | tr ' ' '\n' | grep "^${set}_occl_mrays=" | cut -d= -f2 | median)
-            n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1; done)
-            ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
-            ourso=$(echo "$n" | tr ' ' '\n' | grep "^rays_occl_mrays=" | cut -d= -f2 | median)
-            printf '%-18s %-8s %10.2f %10.2f %8.2f %10.2f %10.2f\n' "$name" "$set" "$emb" "$ours" "$(awk -v a="$ours" -v b="$emb" 'BEGIN {print a/b}')" "$embo" "$ourso"
-            if [ "$name" = mount_very_high ]; then
-                # Embree's anchor skips mount's four spheres: the same rays against the
-                # same geometry, i.e. the scene without them (hits then equal Embree's).
-                grep -v '^s ' "$shared/scenes/$s.nff" >"$tmp/mount_tris.nff"
-                n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$tmp/mount_tris.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1; done)
-                ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
-                ourso=$(echo "$n" | tr ' ' '\n' | grep "^rays_occl_mrays=" | cut -d= -f2 | median)
-                printf '%-18s %-8s %10.2f %10.2f %8.2f %10.2f %10.2f\n' "  triangles only" "$set" "$emb" "$ours" "$(awk -v a="$ours" -v b="$emb" 'BEGIN {print a/b}')" "$embo" "$ourso"
-            fi
+        "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" >/dev/null 2>&1
+        # Embree's anchor skips mount's four spheres: the same rays against the same
+        # geometry, i.e. the scene without them, make the "triangles only" rows (hits
+        # then equal Embree's).
+        if [ "$name" = mount_very_high ]; then grep -v '^s ' "$shared/scenes/$s.nff" >"$tmp/mount_tris.nff"; fi
+        # The two programs alternate, run by run, so that the host's load falls on both.
+        e=""; declare -A n=() t=()
+        for _ in $(seq "$runs"); do
+            e+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null)$'\n'
+            for set in primary random; do
+                n[$set]+=$("$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1)$'\n'
+                if [ "$name" = mount_very_high ]; then
+                    t[$set]+=$("$nffrt" bench "$tmp/mount_tris.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1)$'\n'
+                fi
+            done
         done
+        for set in primary random; do
+            row "$name" "$set" "$e" "${n[$set]}"
+            if [ "$name" = mount_very_high ]; then row "  triangles only" "$set" "$e" "${t[$set]}"; fi
+        done
+        unset n t
     done
     # Embree's own best on this machine: native C, no binding, 8-ray coherent packets
     # (needs Debian's libembree-dev; skipped without it).
