@@ -74,7 +74,10 @@ impl Avx {
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn closest_hit_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
-    bvh.closest_hit_with(avx, ray, t_max)
+    if bvh.tri_only {
+        return bvh.closest_hit_with::<_, true>(avx, ray, t_max);
+    }
+    bvh.closest_hit_with::<_, false>(avx, ray, t_max)
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
@@ -84,7 +87,10 @@ fn closest_hit_packet_avx(avx: Avx, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &m
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
-    bvh.occluder_with(avx, ray, t_max)
+    if bvh.tri_only {
+        return bvh.occluder_with::<_, true>(avx, ray, t_max);
+    }
+    bvh.occluder_with::<_, false>(avx, ray, t_max)
 }
 
 impl Kernels for Avx {

@@ -208,6 +208,9 @@ pub struct Bvh {
     pub(super) bounded: usize,
     pub(super) data: GeometryData,
     pub(super) depth: u32,
+    /// True when every leaf lane refers to [`Tri4`] blocks: the queries then run a
+    /// copy of themselves with only the triangle leaf test.
+    pub(super) tri_only: bool,
     /// The AVX kernels, when the CPU has them (detected once, at build time).
     #[cfg(target_arch = "x86_64")]
     pub(super) avx: Option<Avx>,
@@ -246,6 +249,9 @@ impl Bvh {
             Vec::new()
         };
         let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered);
+        let tri_only = wide.iter().all(|node| {
+            (0..WIDTH).all(|lane| node.count[lane] == 0 || node.count[lane] as usize & TRI4_LEAF != 0)
+        });
         Bvh {
             nodes: built.nodes,
             wide,
@@ -256,6 +262,7 @@ impl Bvh {
             bounded: n_bounded,
             data,
             depth: built.depth,
+            tri_only,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
         }
@@ -289,13 +296,17 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.closest_hit(self, ray, t_max);
         }
-        self.closest_hit_with(Portable, ray, t_max)
+        if self.tri_only {
+            return self.closest_hit_with::<_, true>(Portable, ray, t_max);
+        }
+        self.closest_hit_with::<_, false>(Portable, ray, t_max)
     }
 
     /// [`Bvh::closest_hit`] with the slab test `kernels` (inlined into each caller, so
-    /// that an AVX caller compiles all of it for AVX).
+    /// that an AVX caller compiles all of it for AVX); `TRI_ONLY` compiles the copy for
+    /// trees whose leaves are all triangle blocks (see [`Bvh::tri_only`]).
     #[inline(always)]
-    pub(super) fn closest_hit_with<S: Kernels>(
+    pub(super) fn closest_hit_with<S: Kernels, const TRI_ONLY: bool>(
         &self,
         kernels: S,
         ray: &Ray,
@@ -328,7 +339,7 @@ impl Bvh {
                     each &= each - 1;
                     if t[lane] < nearest.limit {
                         let count = node.count[lane] as usize;
-                        self.leaf_closest(
+                        self.leaf_closest::<S, TRI_ONLY>(
                             kernels,
                             node.child[lane] as usize,
                             count,
@@ -400,9 +411,10 @@ impl Bvh {
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
     /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
     /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`],
-    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives.
+    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives; with `TRI_ONLY`,
+    /// [`Tri4`] blocks without looking.
     #[inline(always)]
-    pub(super) fn leaf_closest<S: Kernels>(
+    pub(super) fn leaf_closest<S: Kernels, const TRI_ONLY: bool>(
         &self,
         kernels: S,
         first: usize,
@@ -411,6 +423,12 @@ impl Bvh {
         ray4: &Ray4,
         nearest: &mut Nearest,
     ) {
+        if TRI_ONLY {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            self.tri4_closest(kernels, blocks, ray, ray4, nearest);
+            return;
+        }
         if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
             blocks_closest(blocks, ray4, nearest);
             return;
@@ -420,21 +438,7 @@ impl Bvh {
             return;
         }
         if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
-            // Blocks two at a time (one eight-lane test), the last one alone.
-            let mut pairs = blocks.chunks_exact(2);
-            for pair in &mut pairs {
-                let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray, nearest.limit);
-                if mask != 0 {
-                    let lane = nearest_lane(&t, mask);
-                    let hit = Hit {
-                        t: t[lane],
-                        u: u[lane],
-                        v: v[lane],
-                    };
-                    nearest.offer(hit, pair[lane / LANES].prim[lane % LANES]);
-                }
-            }
-            blocks_closest(pairs.remainder(), ray4, nearest);
+            self.tri4_closest(kernels, blocks, ray, ray4, nearest);
             return;
         }
         count!(PRIMS, count);
@@ -443,6 +447,33 @@ impl Bvh {
                 nearest.offer(h, (first + k) as u32);
             }
         }
+    }
+
+    /// Offers to `nearest` the hits of `ray` (and `ray4`) in triangle blocks.
+    #[inline(always)]
+    fn tri4_closest<S: Kernels>(
+        &self,
+        kernels: S,
+        blocks: &[Tri4],
+        ray: &Ray,
+        ray4: &Ray4,
+        nearest: &mut Nearest,
+    ) {
+        // Blocks two at a time (one eight-lane test), the last one alone.
+        let mut pairs = blocks.chunks_exact(2);
+        for pair in &mut pairs {
+            let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray, nearest.limit);
+            if mask != 0 {
+                let lane = nearest_lane(&t, mask);
+                let hit = Hit {
+                    t: t[lane],
+                    u: u[lane],
+                    v: v[lane],
+                };
+                nearest.offer(hit, pair[lane / LANES].prim[lane % LANES]);
+            }
+        }
+        blocks_closest(pairs.remainder(), ray4, nearest);
     }
 
     /// `buffer` grown to the most entries a traversal stacks: fewer than [`WIDTH`] per
@@ -495,13 +526,17 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.occluder(self, ray, t_max);
         }
-        self.occluder_with(Portable, ray, t_max)
+        if self.tri_only {
+            return self.occluder_with::<_, true>(Portable, ray, t_max);
+        }
+        self.occluder_with::<_, false>(Portable, ray, t_max)
     }
 
-    /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`])
-    /// lying on `ray` (and `ray4`, the same ray broadcast) with `0 < t < t_max`.
+    /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`],
+    /// and `TRI_ONLY` too) lying on `ray` (and `ray4`, the same ray broadcast) with
+    /// `0 < t < t_max`.
     #[inline(always)]
-    fn leaf_any<S: Kernels>(
+    fn leaf_any<S: Kernels, const TRI_ONLY: bool>(
         &self,
         kernels: S,
         first: usize,
@@ -510,6 +545,11 @@ impl Bvh {
         ray4: &Ray4,
         t_max: f32,
     ) -> Option<u32> {
+        if TRI_ONLY {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            return self.tri4_any(kernels, blocks, ray, ray4, t_max);
+        }
         if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
             return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
         }
@@ -517,15 +557,7 @@ impl Bvh {
             return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
         }
         if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
-            let mut pairs = blocks.chunks_exact(2);
-            for pair in &mut pairs {
-                let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
-                if mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    return Some(pair[lane / LANES].prim[lane % LANES]);
-                }
-            }
-            return pairs.remainder().iter().find_map(|b| b.any_hit(ray4, t_max));
+            return self.tri4_any(kernels, blocks, ray, ray4, t_max);
         }
         count!(PRIMS, count);
         let leaf = &self.primitives[first..first + count];
@@ -535,9 +567,35 @@ impl Bvh {
         Some((first + k) as u32)
     }
 
+    /// Some triangle of `blocks` lying on `ray` (and `ray4`) with `0 < t < t_max`.
+    #[inline(always)]
+    fn tri4_any<S: Kernels>(
+        &self,
+        kernels: S,
+        blocks: &[Tri4],
+        ray: &Ray,
+        ray4: &Ray4,
+        t_max: f32,
+    ) -> Option<u32> {
+        let mut pairs = blocks.chunks_exact(2);
+        for pair in &mut pairs {
+            let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
+            if mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                return Some(pair[lane / LANES].prim[lane % LANES]);
+            }
+        }
+        pairs.remainder().iter().find_map(|b| b.any_hit(ray4, t_max))
+    }
+
     /// [`Bvh::occluder`] with the slab test `kernels` (see [`Bvh::closest_hit_with`]).
     #[inline(always)]
-    pub(super) fn occluder_with<S: Kernels>(&self, kernels: S, ray: &Ray, t_max: f32) -> Option<u32> {
+    pub(super) fn occluder_with<S: Kernels, const TRI_ONLY: bool>(
+        &self,
+        kernels: S,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<u32> {
         let unbounded = &self.primitives[self.bounded..];
         if let Some(i) = unbounded
             .iter()
@@ -575,7 +633,7 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
-                    if let Some(p) = self.leaf_any(kernels, first, count, ray, &ray4, t_max) {
+                    if let Some(p) = self.leaf_any::<S, TRI_ONLY>(kernels, first, count, ray, &ray4, t_max) {
                         return Some(p);
                     }
                 }

@@ -288,7 +288,14 @@ impl Bvh {
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest(kernels, first, count, &rays[k], &ray4[k], &mut nearest[k]);
+                        self.leaf_closest::<S, false>(
+                            kernels,
+                            first,
+                            count,
+                            &rays[k],
+                            &ray4[k],
+                            &mut nearest[k],
+                        );
                         limits[k] = nearest[k].limit;
                     }
                 }

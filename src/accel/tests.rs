@@ -261,6 +261,36 @@ fn deep_trees_agree_with_brute_force() {
     );
     let shared = bvh.cone4.iter().filter(|b| b.prim[1] != u32::MAX).count();
     assert!(shared >= 20, "only {shared} cone blocks hold more than one cone");
+    assert!(!bvh.tri_only);
+    assert_agrees_with_brute_force(&bvh, &mut point);
+}
+
+/// A scene of triangles only, deep enough to use the stack: the queries run their
+/// triangles-only copies (see `Bvh::tri_only`), which agree with the scan and with the
+/// general copies.
+#[test]
+fn deep_triangle_only_trees_agree_with_brute_force() {
+    let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
+    let mut next = move || uniform() * 2.0 - 1.0;
+    let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
+    let tris: Vec<[Vec3; 3]> = (0..4000)
+        .map(|_| {
+            let a = point(20.0);
+            [a, a + point(0.8), a + point(0.8)]
+        })
+        .collect();
+    let bvh = bvh_of(&scene_with(&[], &tris));
+    assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+    assert!(bvh.tri_only);
+    assert_agrees_with_brute_force(&bvh, &mut point);
+}
+
+/// 3000 rays between random points of `point(scale)`: closest hits (hit and
+/// primitive) equal the linear scan's, occlusion agrees with it at three distances,
+/// and both copies of the queries (general, triangles-only when the tree allows)
+/// with the portable kernels give the answers of the kernels this CPU chose.
+fn assert_agrees_with_brute_force(bvh: &Bvh, point: &mut impl FnMut(f32) -> Vec3) {
+    use super::wide::Portable;
     let mut hits = 0;
     for _ in 0..3000 {
         let origin = point(25.0);
@@ -271,14 +301,21 @@ fn deep_trees_agree_with_brute_force() {
         assert_eq!(fast, slow);
         // The portable kernels (what `closest_hit` runs on a CPU without AVX2) give
         // the very same answers as the ones this CPU may have chosen.
-        let portable = bvh.closest_hit_with(super::wide::Portable, &r, f32::INFINITY);
-        assert_eq!(portable, fast);
+        assert_eq!(
+            bvh.closest_hit_with::<_, false>(Portable, &r, f32::INFINITY),
+            fast
+        );
+        if bvh.tri_only {
+            assert_eq!(bvh.closest_hit_with::<_, true>(Portable, &r, f32::INFINITY), fast);
+        }
         hits += usize::from(fast.is_some());
         for t_max in [2.0, 10.0, f32::INFINITY] {
             let any = bvh.closest_hit_linear(&r, t_max).is_some();
             assert_eq!(bvh.occluded(&r, t_max), any);
-            let occluder = bvh.occluder_with(super::wide::Portable, &r, t_max);
-            assert_eq!(occluder.is_some(), any);
+            assert_eq!(bvh.occluder_with::<_, false>(Portable, &r, t_max).is_some(), any);
+            if bvh.tri_only {
+                assert_eq!(bvh.occluder_with::<_, true>(Portable, &r, t_max).is_some(), any);
+            }
         }
     }
     assert!(
