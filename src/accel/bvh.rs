@@ -67,6 +67,46 @@ pub(super) const SPHERE4_LEAF: usize = 1 << 30;
 /// `child` is the first of `count & !CONE4_LEAF` [`Cone4`] blocks.
 pub(super) const CONE4_LEAF: usize = 1 << 29;
 
+/// Sets of leaf kinds, as bits, for the copies of the queries (see [`Bvh::kinds`]).
+pub(super) mod leaf_kinds {
+    use super::{Node8, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF, WIDTH};
+
+    /// Leaves of [`super::Tri4`] blocks.
+    pub const TRIANGLES: u32 = 1;
+    /// Leaves of [`super::Sphere4`] blocks.
+    pub const SPHERES: u32 = 2;
+    /// Leaves of [`super::Cone4`] blocks.
+    pub const CONES: u32 = 4;
+    /// Leaves of primitives tested one by one.
+    pub const PRIMITIVES: u32 = 8;
+    /// Triangle and sphere blocks (the SPD's balls and mount).
+    pub const SPHERES_AND_TRIANGLES: u32 = SPHERES | TRIANGLES;
+    /// Every kind.
+    pub const ALL: u32 = TRIANGLES | SPHERES | CONES | PRIMITIVES;
+
+    /// The set with a copy of the queries that serves the tree `wide`: the smallest
+    /// of [`TRIANGLES`], [`SPHERES_AND_TRIANGLES`] and [`ALL`] holding its leaves'.
+    pub fn copy_for(wide: &[Node8]) -> u32 {
+        let mut present = 0;
+        for node in wide {
+            for &count in &node.count[..WIDTH] {
+                let count = count as usize;
+                present |= match count {
+                    0 => 0,
+                    _ if count & TRI4_LEAF != 0 => TRIANGLES,
+                    _ if count & SPHERE4_LEAF != 0 => SPHERES,
+                    _ if count & CONE4_LEAF != 0 => CONES,
+                    _ => PRIMITIVES,
+                };
+            }
+        }
+        [TRIANGLES, SPHERES_AND_TRIANGLES]
+            .into_iter()
+            .find(|&set| present & !set == 0)
+            .unwrap_or(ALL)
+    }
+}
+
 /// The kind of block `p` is tested in (see [`build::Pack`]): triangles, and spheres
 /// and (non-degenerate) cones visible from outside, pack four to a block; everything
 /// else is tested alone.
@@ -208,9 +248,9 @@ pub struct Bvh {
     pub(super) bounded: usize,
     pub(super) data: GeometryData,
     pub(super) depth: u32,
-    /// True when every leaf lane refers to [`Tri4`] blocks: the queries then run a
-    /// copy of themselves with only the triangle leaf test.
-    pub(super) tri_only: bool,
+    /// The kinds of leaf the queries look for (see [`leaf_kinds`]): each set they
+    /// dispatch on has a copy of them compiled without the other kinds' tests.
+    pub(super) kinds: u32,
     /// The AVX kernels, when the CPU has them (detected once, at build time).
     #[cfg(target_arch = "x86_64")]
     pub(super) avx: Option<Avx>,
@@ -249,9 +289,7 @@ impl Bvh {
             Vec::new()
         };
         let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered);
-        let tri_only = wide.iter().all(|node| {
-            (0..WIDTH).all(|lane| node.count[lane] == 0 || node.count[lane] as usize & TRI4_LEAF != 0)
-        });
+        let kinds = leaf_kinds::copy_for(&wide);
         Bvh {
             nodes: built.nodes,
             wide,
@@ -262,7 +300,7 @@ impl Bvh {
             bounded: n_bounded,
             data,
             depth: built.depth,
-            tri_only,
+            kinds,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
         }
@@ -296,17 +334,22 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.closest_hit(self, ray, t_max);
         }
-        if self.tri_only {
-            return self.closest_hit_with::<_, true>(Portable, ray, t_max);
+        match self.kinds {
+            leaf_kinds::TRIANGLES => {
+                self.closest_hit_with::<_, { leaf_kinds::TRIANGLES }>(Portable, ray, t_max)
+            }
+            leaf_kinds::SPHERES_AND_TRIANGLES => {
+                self.closest_hit_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(Portable, ray, t_max)
+            }
+            _ => self.closest_hit_with::<_, { leaf_kinds::ALL }>(Portable, ray, t_max),
         }
-        self.closest_hit_with::<_, false>(Portable, ray, t_max)
     }
 
     /// [`Bvh::closest_hit`] with the slab test `kernels` (inlined into each caller, so
-    /// that an AVX caller compiles all of it for AVX); `TRI_ONLY` compiles the copy for
-    /// trees whose leaves are all triangle blocks (see [`Bvh::tri_only`]).
+    /// that an AVX caller compiles all of it for AVX), for trees whose leaves are of the
+    /// kinds `KINDS` (see [`Bvh::kinds`]).
     #[inline(always)]
-    pub(super) fn closest_hit_with<S: Kernels, const TRI_ONLY: bool>(
+    pub(super) fn closest_hit_with<S: Kernels, const KINDS: u32>(
         &self,
         kernels: S,
         ray: &Ray,
@@ -339,7 +382,7 @@ impl Bvh {
                     each &= each - 1;
                     if t[lane] < nearest.limit {
                         let count = node.count[lane] as usize;
-                        self.leaf_closest::<S, TRI_ONLY>(
+                        self.leaf_closest::<S, KINDS>(
                             kernels,
                             node.child[lane] as usize,
                             count,
@@ -411,10 +454,10 @@ impl Bvh {
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
     /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
     /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`],
-    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives; with `TRI_ONLY`,
-    /// [`Tri4`] blocks without looking.
+    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives; only the kinds
+    /// in `KINDS` (see [`leaf_kinds`]) are looked for, the last one without looking.
     #[inline(always)]
-    pub(super) fn leaf_closest<S: Kernels, const TRI_ONLY: bool>(
+    pub(super) fn leaf_closest<S: Kernels, const KINDS: u32>(
         &self,
         kernels: S,
         first: usize,
@@ -423,21 +466,19 @@ impl Bvh {
         ray4: &Ray4,
         nearest: &mut Nearest,
     ) {
-        if TRI_ONLY {
-            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
-            self.tri4_closest(kernels, blocks, ray, ray4, nearest);
-            return;
+        if KINDS & leaf_kinds::SPHERES != 0 {
+            if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
+                blocks_closest(blocks, ray4, nearest);
+                return;
+            }
         }
-        if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
-            blocks_closest(blocks, ray4, nearest);
-            return;
+        if KINDS & leaf_kinds::CONES != 0 {
+            if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
+                blocks_closest(blocks, ray4, nearest);
+                return;
+            }
         }
-        if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
-            blocks_closest(blocks, ray4, nearest);
-            return;
-        }
-        if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
+        if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
             self.tri4_closest(kernels, blocks, ray, ray4, nearest);
             return;
         }
@@ -447,6 +488,18 @@ impl Bvh {
                 nearest.offer(h, (first + k) as u32);
             }
         }
+    }
+
+    /// The triangle blocks of a leaf lane whose other kinds (in `KINDS`) were ruled
+    /// out: taken without looking at the mark when nothing but triangle blocks is left.
+    #[inline(always)]
+    fn triangle_blocks<const KINDS: u32>(&self, first: usize, count: usize) -> Option<&[Tri4]> {
+        if KINDS & leaf_kinds::PRIMITIVES == 0 {
+            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
+            count!(PRIMS, blocks.len() * LANES);
+            return Some(blocks);
+        }
+        marked(&self.tri4, first, count, TRI4_LEAF)
     }
 
     /// Offers to `nearest` the hits of `ray` (and `ray4`) in triangle blocks.
@@ -526,17 +579,20 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.occluder(self, ray, t_max);
         }
-        if self.tri_only {
-            return self.occluder_with::<_, true>(Portable, ray, t_max);
+        match self.kinds {
+            leaf_kinds::TRIANGLES => self.occluder_with::<_, { leaf_kinds::TRIANGLES }>(Portable, ray, t_max),
+            leaf_kinds::SPHERES_AND_TRIANGLES => {
+                self.occluder_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(Portable, ray, t_max)
+            }
+            _ => self.occluder_with::<_, { leaf_kinds::ALL }>(Portable, ray, t_max),
         }
-        self.occluder_with::<_, false>(Portable, ray, t_max)
     }
 
     /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`],
-    /// and `TRI_ONLY` too) lying on `ray` (and `ray4`, the same ray broadcast) with
+    /// and `KINDS` too) lying on `ray` (and `ray4`, the same ray broadcast) with
     /// `0 < t < t_max`.
     #[inline(always)]
-    fn leaf_any<S: Kernels, const TRI_ONLY: bool>(
+    fn leaf_any<S: Kernels, const KINDS: u32>(
         &self,
         kernels: S,
         first: usize,
@@ -545,18 +601,17 @@ impl Bvh {
         ray4: &Ray4,
         t_max: f32,
     ) -> Option<u32> {
-        if TRI_ONLY {
-            let blocks = &self.tri4[first..first + (count & !TRI4_LEAF)];
-            count!(PRIMS, blocks.len() * LANES);
-            return self.tri4_any(kernels, blocks, ray, ray4, t_max);
+        if KINDS & leaf_kinds::SPHERES != 0 {
+            if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
+                return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+            }
         }
-        if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
-            return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+        if KINDS & leaf_kinds::CONES != 0 {
+            if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
+                return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+            }
         }
-        if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
-            return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
-        }
-        if let Some(blocks) = marked(&self.tri4, first, count, TRI4_LEAF) {
+        if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
             return self.tri4_any(kernels, blocks, ray, ray4, t_max);
         }
         count!(PRIMS, count);
@@ -590,7 +645,7 @@ impl Bvh {
 
     /// [`Bvh::occluder`] with the slab test `kernels` (see [`Bvh::closest_hit_with`]).
     #[inline(always)]
-    pub(super) fn occluder_with<S: Kernels, const TRI_ONLY: bool>(
+    pub(super) fn occluder_with<S: Kernels, const KINDS: u32>(
         &self,
         kernels: S,
         ray: &Ray,
@@ -633,7 +688,7 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
-                    if let Some(p) = self.leaf_any::<S, TRI_ONLY>(kernels, first, count, ray, &ray4, t_max) {
+                    if let Some(p) = self.leaf_any::<S, KINDS>(kernels, first, count, ray, &ray4, t_max) {
                         return Some(p);
                     }
                 }

@@ -288,7 +288,7 @@ impl Bvh {
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest::<S, false>(
+                        self.leaf_closest::<S, { super::bvh::leaf_kinds::ALL }>(
                             kernels,
                             first,
                             count,

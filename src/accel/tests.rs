@@ -1,8 +1,10 @@
 //! BVH tests: structural validation on edge cases, and closest-hit / occlusion
 //! agreement with the brute-force scan on random scenes and rays.
 
+use super::bvh::leaf_kinds;
 use super::Bvh;
 use crate::geometry::build_geometry;
+use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Cone, Material, Polygon, Scene, Sphere};
 use proptest::prelude::*;
@@ -261,36 +263,44 @@ fn deep_trees_agree_with_brute_force() {
     );
     let shared = bvh.cone4.iter().filter(|b| b.prim[1] != u32::MAX).count();
     assert!(shared >= 20, "only {shared} cone blocks hold more than one cone");
-    assert!(!bvh.tri_only);
+    assert_eq!(bvh.kinds, leaf_kinds::ALL);
     assert_agrees_with_brute_force(&bvh, &mut point);
 }
 
-/// A scene of triangles only, deep enough to use the stack: the queries run their
-/// triangles-only copies (see `Bvh::tri_only`), which agree with the scan and with the
-/// general copies.
+/// Scenes of triangles only, and of spheres and triangles apart, deep enough to use
+/// the stack: the queries run their copies for those kinds of leaf (see
+/// `Bvh::kinds`), which agree with the scan and with the general copy.
 #[test]
-fn deep_triangle_only_trees_agree_with_brute_force() {
+fn deep_trees_of_fewer_kinds_agree_with_brute_force() {
     let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
     let mut next = move || uniform() * 2.0 - 1.0;
     let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
+    // Triangles at x > 0, spheres (in the second scene) at x < 0.
     let tris: Vec<[Vec3; 3]> = (0..4000)
         .map(|_| {
-            let a = point(20.0);
+            let a = point(10.0) + Vec3::new(11.0, 0.0, 0.0);
             [a, a + point(0.8), a + point(0.8)]
         })
         .collect();
-    let bvh = bvh_of(&scene_with(&[], &tris));
-    assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
-    assert!(bvh.tri_only);
-    assert_agrees_with_brute_force(&bvh, &mut point);
+    let spheres: Vec<(Vec3, f32)> = (0..1500)
+        .map(|_| (point(10.0) - Vec3::new(11.0, 0.0, 0.0), 0.2))
+        .collect();
+    for (spheres, kinds) in [
+        (&[][..], leaf_kinds::TRIANGLES),
+        (&spheres[..], leaf_kinds::SPHERES_AND_TRIANGLES),
+    ] {
+        let bvh = bvh_of(&scene_with(spheres, &tris));
+        assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+        assert_eq!(bvh.kinds, kinds);
+        assert_agrees_with_brute_force(&bvh, &mut point);
+    }
 }
 
 /// 3000 rays between random points of `point(scale)`: closest hits (hit and
 /// primitive) equal the linear scan's, occlusion agrees with it at three distances,
-/// and both copies of the queries (general, triangles-only when the tree allows)
-/// with the portable kernels give the answers of the kernels this CPU chose.
+/// and every copy of the queries that serves the tree (see `Bvh::kinds`) with the
+/// portable kernels gives the answers of the copy and kernels this CPU chose.
 fn assert_agrees_with_brute_force(bvh: &Bvh, point: &mut impl FnMut(f32) -> Vec3) {
-    use super::wide::Portable;
     let mut hits = 0;
     for _ in 0..3000 {
         let origin = point(25.0);
@@ -299,29 +309,47 @@ fn assert_agrees_with_brute_force(bvh: &Bvh, point: &mut impl FnMut(f32) -> Vec3
         let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
         // The same hit and primitive: ties go to the lowest index, as in the scan.
         assert_eq!(fast, slow);
-        // The portable kernels (what `closest_hit` runs on a CPU without AVX2) give
-        // the very same answers as the ones this CPU may have chosen.
-        assert_eq!(
-            bvh.closest_hit_with::<_, false>(Portable, &r, f32::INFINITY),
-            fast
-        );
-        if bvh.tri_only {
-            assert_eq!(bvh.closest_hit_with::<_, true>(Portable, &r, f32::INFINITY), fast);
-        }
         hits += usize::from(fast.is_some());
-        for t_max in [2.0, 10.0, f32::INFINITY] {
-            let any = bvh.closest_hit_linear(&r, t_max).is_some();
-            assert_eq!(bvh.occluded(&r, t_max), any);
-            assert_eq!(bvh.occluder_with::<_, false>(Portable, &r, t_max).is_some(), any);
-            if bvh.tri_only {
-                assert_eq!(bvh.occluder_with::<_, true>(Portable, &r, t_max).is_some(), any);
-            }
+        let occluded: Vec<bool> = [2.0, 10.0, f32::INFINITY]
+            .iter()
+            .map(|&t_max| {
+                let any = bvh.closest_hit_linear(&r, t_max).is_some();
+                assert_eq!(bvh.occluded(&r, t_max), any);
+                any
+            })
+            .collect();
+        // The portable kernels (what the queries run on a CPU without AVX2) give the
+        // very same answers as the ones this CPU may have chosen, in every copy.
+        assert_portable_copy::<{ leaf_kinds::ALL }>(bvh, &r, fast, &occluded);
+        if bvh.kinds & !leaf_kinds::SPHERES_AND_TRIANGLES == 0 {
+            assert_portable_copy::<{ leaf_kinds::SPHERES_AND_TRIANGLES }>(bvh, &r, fast, &occluded);
+        }
+        if bvh.kinds == leaf_kinds::TRIANGLES {
+            assert_portable_copy::<{ leaf_kinds::TRIANGLES }>(bvh, &r, fast, &occluded);
         }
     }
     assert!(
         hits > 500,
         "only {hits} of 3000 rays hit: the test would be too weak"
     );
+}
+
+/// The portable copy of the queries for leaf kinds `KINDS` gives `closest` as the
+/// closest hit of `r` and `occluded` as its occlusion at t_max 2, 10 and infinity.
+fn assert_portable_copy<const KINDS: u32>(
+    bvh: &Bvh,
+    r: &Ray,
+    closest: Option<(Hit, u32)>,
+    occluded: &[bool],
+) {
+    use super::wide::Portable;
+    assert_eq!(
+        bvh.closest_hit_with::<_, KINDS>(Portable, r, f32::INFINITY),
+        closest
+    );
+    for (&t_max, &any) in [2.0, 10.0, f32::INFINITY].iter().zip(occluded) {
+        assert_eq!(bvh.occluder_with::<_, KINDS>(Portable, r, t_max).is_some(), any);
+    }
 }
 
 /// Boxes for the builder tests: `n` random ones from a fixed-seed generator, shaped
