@@ -2,7 +2,8 @@
 //! validation, shape statistics (with the SAH cost) and bounds.
 
 use super::build::{self, Packs};
-use super::bvh::{pack_of, Bvh};
+use super::bvh::{pack_of, Bvh, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
+use super::wide::WIDTH;
 use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
 
@@ -49,9 +50,11 @@ impl Bvh {
         best
     }
 
-    /// Checks the structural invariants: every bounded primitive in exactly one leaf,
-    /// every child box inside its parent, every primitive box inside its leaf, depth
-    /// within the traversal stack. Returns a description of the first violation.
+    /// Checks the structural invariants, of the binary tree and of the wide one the
+    /// queries use: every bounded primitive in exactly one leaf (of each), every child
+    /// box inside its parent (binary), every primitive box inside its leaf or leaf
+    /// lane, depth within the traversal stack. Returns a description of the first
+    /// violation.
     pub fn validate(&self) -> Result<(), String> {
         if self.depth as usize >= MAX_DEPTH {
             return Err(format!("depth {} exceeds the stack", self.depth));
@@ -60,10 +63,65 @@ impl Bvh {
         if self.bounded > 0 {
             self.validate_node(0, &mut seen)?;
         }
+        if let Some(i) = seen.iter().position(|&c| c != 1) {
+            return Err(format!("primitive {i} is reached {} times", seen[i]));
+        }
+        let mut seen = vec![0u8; self.bounded];
+        self.validate_wide(&mut seen)?;
         match seen.iter().position(|&c| c != 1) {
-            Some(i) => Err(format!("primitive {i} is reached {} times", seen[i])),
+            Some(i) => Err(format!("primitive {i} is in {} wide leaf lanes", seen[i])),
             None => Ok(()),
         }
+    }
+
+    /// The wide tree's part of [`Bvh::validate`]: counts in `seen` the leaf lanes
+    /// holding each primitive (directly or through its block), checking its box lies
+    /// in the lane's.
+    fn validate_wide(&self, seen: &mut [u8]) -> Result<(), String> {
+        for (n, node) in self.wide.iter().enumerate() {
+            for lane in 0..WIDTH {
+                let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
+                if count == 0 {
+                    continue;
+                }
+                let blocks = |mark: usize| first..first + (count & !mark);
+                let prims: Vec<usize> = if count & TRI4_LEAF != 0 {
+                    self.tri4[blocks(TRI4_LEAF)]
+                        .iter()
+                        .flat_map(|b| b.prim)
+                        .collect::<Vec<u32>>()
+                } else if count & SPHERE4_LEAF != 0 {
+                    self.sphere4[blocks(SPHERE4_LEAF)]
+                        .iter()
+                        .flat_map(|b| b.prim)
+                        .collect()
+                } else if count & CONE4_LEAF != 0 {
+                    self.cone4[blocks(CONE4_LEAF)]
+                        .iter()
+                        .flat_map(|b| b.prim)
+                        .collect()
+                } else {
+                    (first as u32..(first + count) as u32).collect()
+                }
+                .into_iter()
+                .filter(|&p| p != u32::MAX)
+                .map(|p| p as usize)
+                .collect();
+                let b = node.lane_bounds(lane);
+                for p in prims {
+                    let pb = self.primitives[p]
+                        .bounds(&self.data)
+                        .ok_or("unbounded primitive in a leaf lane")?;
+                    if !b.contains(&pb) {
+                        return Err(format!(
+                            "primitive {p} sticks out of lane {lane} of wide node {n}"
+                        ));
+                    }
+                    seen[p] = seen[p].saturating_add(1);
+                }
+            }
+        }
+        Ok(())
     }
 
     fn validate_node(&self, index: usize, seen: &mut [u8]) -> Result<(), String> {

@@ -186,7 +186,7 @@ mod tests {
     use super::*;
     use crate::accel::build::{build_with, MAX_LEAF};
     use crate::accel::tests::random_boxes;
-    use crate::math::{Aabb, Vec3};
+    use crate::math::Aabb;
 
     /// The collapse this module replaced, kept as a yardstick: repeatedly open the
     /// interior child with the largest surface area until the node has eight.
@@ -225,17 +225,6 @@ mod tests {
         out[me] = node;
     }
 
-    fn lane_box(node: &Node8, lane: usize) -> Aabb {
-        let corner = |side: usize| {
-            Vec3::new(
-                node.bounds[side][0][lane],
-                node.bounds[side][1][lane],
-                node.bounds[side][2][lane],
-            )
-        };
-        Aabb::new(corner(MIN), corner(MAX))
-    }
-
     /// The SAH cost of a wide tree, computed from its nodes alone: every wide node
     /// costs its box's area times `TRAVERSAL_COST`, every leaf lane its box's area
     /// times its `leaf_cost`. Also checks the tree's shape: each node reached once,
@@ -253,21 +242,21 @@ mod tests {
             let own = own.unwrap_or_else(|| {
                 lanes
                     .clone()
-                    .map(|l| lane_box(node, l))
+                    .map(|l| node.lane_bounds(l))
                     .fold(Aabb::EMPTY, Aabb::union)
             });
             cost += f64::from(own.surface_area() * TRAVERSAL_COST);
             for lane in lanes {
                 let (first, count) = (node.child[lane], node.count[lane]);
                 if count == 0 {
-                    stack.push((first as usize, Some(lane_box(node, lane))));
+                    stack.push((first as usize, Some(node.lane_bounds(lane))));
                     continue;
                 }
                 assert!(count <= max_leaf, "a leaf of {count} primitives");
                 let range = first as usize..(first + count) as usize;
                 range.clone().for_each(|p| covered[p] += 1);
                 let kinds = Packs::of(packs[range].iter().copied());
-                cost += f64::from(lane_box(node, lane).surface_area() * leaf_cost(count, kinds));
+                cost += f64::from(node.lane_bounds(lane).surface_area() * leaf_cost(count, kinds));
             }
         }
         assert!(reached.iter().all(|&r| r), "every node is reached");

@@ -12,7 +12,7 @@ use wide::{f32x8, u32x8};
 
 use super::ray8::{pair_hits, Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
-use crate::math::{Ray, TINY_DIR};
+use crate::math::{Aabb, Ray, Vec3, TINY_DIR};
 
 /// Lanes per wide node.
 pub const WIDTH: usize = 8;
@@ -94,6 +94,18 @@ impl RayBoxes {
 }
 
 impl Node8 {
+    /// The box of lane `lane`.
+    pub fn lane_bounds(&self, lane: usize) -> Aabb {
+        let corner = |side: usize| {
+            Vec3::new(
+                self.bounds[side][0][lane],
+                self.bounds[side][1][lane],
+                self.bounds[side][2][lane],
+            )
+        };
+        Aabb::new(corner(MIN), corner(MAX))
+    }
+
     /// The lanes holding leaves, as bits.
     #[inline(always)]
     pub fn leaf_lanes(&self) -> u32 {
