@@ -1,6 +1,7 @@
 //! Acceleration: a bounding volume hierarchy over the bounded primitives, built with
-//! the binned surface area heuristic and flattened into 32-byte nodes; unbounded
-//! primitives (planes) are tested beside it.
+//! the binned surface area heuristic as a binary tree of 32-byte nodes, then
+//! collapsed at the least SAH cost into the 8-wide nodes the queries traverse;
+//! unbounded primitives (planes) are tested beside it.
 
 #[cfg(target_arch = "x86_64")]
 mod avx;
