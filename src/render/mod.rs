@@ -181,6 +181,11 @@ pub fn stratified_mean(strata: &Strata, x: u32, y: u32, mut sample: impl FnMut(f
 
 /// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
 /// (which appends `cols` values to `out`), rows in parallel, assembled in order.
+///
+/// Every row is a task of its own that an idle thread can steal: rayon's default
+/// splitting stops once each thread holds a few long runs of rows, and where rows
+/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
+/// then worked alone through the end of the image, a third of the render.
 fn trace_rows(
     y0: u32,
     cols: usize,
@@ -190,6 +195,7 @@ fn trace_rows(
 ) -> Option<(Vec<Vec3>, Stats)> {
     let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows as u32)
         .into_par_iter()
+        .with_max_len(1)
         .map(|j| {
             if observer.cancelled() {
                 return None;
