@@ -23,7 +23,7 @@ use std::arch::x86_64::{
     _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
-use super::bvh::{leaf_kinds, Bvh};
+use super::bvh::{leaf_kinds, with_kinds, Bvh};
 use super::ray8::{Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
 use super::wide::{Kernels, Node8, RayBoxes, WIDTH};
@@ -74,13 +74,7 @@ impl Avx {
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn closest_hit_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
-    match bvh.kinds {
-        leaf_kinds::TRIANGLES => bvh.closest_hit_with::<_, { leaf_kinds::TRIANGLES }>(avx, ray, t_max),
-        leaf_kinds::SPHERES_AND_TRIANGLES => {
-            bvh.closest_hit_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(avx, ray, t_max)
-        }
-        _ => bvh.closest_hit_with::<_, { leaf_kinds::ALL }>(avx, ray, t_max),
-    }
+    with_kinds!(bvh.kinds, K => bvh.closest_hit_with::<_, K>(avx, ray, t_max))
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
@@ -90,13 +84,7 @@ fn closest_hit_packet_avx(avx: Avx, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &m
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
-    match bvh.kinds {
-        leaf_kinds::TRIANGLES => bvh.occluder_with::<_, { leaf_kinds::TRIANGLES }>(avx, ray, t_max),
-        leaf_kinds::SPHERES_AND_TRIANGLES => {
-            bvh.occluder_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(avx, ray, t_max)
-        }
-        _ => bvh.occluder_with::<_, { leaf_kinds::ALL }>(avx, ray, t_max),
-    }
+    with_kinds!(bvh.kinds, K => bvh.occluder_with::<_, K>(avx, ray, t_max))
 }
 
 impl Kernels for Avx {

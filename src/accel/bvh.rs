@@ -107,6 +107,28 @@ pub(super) mod leaf_kinds {
     }
 }
 
+/// Evaluates `$call` with the const `$k` set to the kinds of the query copy that
+/// serves a tree of leaf kinds `$kinds` (see [`leaf_kinds::copy_for`]).
+macro_rules! with_kinds {
+    ($kinds:expr, $k:ident => $call:expr) => {
+        match $kinds {
+            leaf_kinds::TRIANGLES => {
+                const $k: u32 = leaf_kinds::TRIANGLES;
+                $call
+            }
+            leaf_kinds::SPHERES_AND_TRIANGLES => {
+                const $k: u32 = leaf_kinds::SPHERES_AND_TRIANGLES;
+                $call
+            }
+            _ => {
+                const $k: u32 = leaf_kinds::ALL;
+                $call
+            }
+        }
+    };
+}
+pub(super) use with_kinds;
+
 /// The kind of block `p` is tested in (see [`build::Pack`]): triangles, and spheres
 /// and (non-degenerate) cones visible from outside, pack four to a block; everything
 /// else is tested alone.
@@ -334,15 +356,7 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.closest_hit(self, ray, t_max);
         }
-        match self.kinds {
-            leaf_kinds::TRIANGLES => {
-                self.closest_hit_with::<_, { leaf_kinds::TRIANGLES }>(Portable, ray, t_max)
-            }
-            leaf_kinds::SPHERES_AND_TRIANGLES => {
-                self.closest_hit_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(Portable, ray, t_max)
-            }
-            _ => self.closest_hit_with::<_, { leaf_kinds::ALL }>(Portable, ray, t_max),
-        }
+        with_kinds!(self.kinds, K => self.closest_hit_with::<_, K>(Portable, ray, t_max))
     }
 
     /// [`Bvh::closest_hit`] with the slab test `kernels` (inlined into each caller, so
@@ -579,13 +593,7 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.occluder(self, ray, t_max);
         }
-        match self.kinds {
-            leaf_kinds::TRIANGLES => self.occluder_with::<_, { leaf_kinds::TRIANGLES }>(Portable, ray, t_max),
-            leaf_kinds::SPHERES_AND_TRIANGLES => {
-                self.occluder_with::<_, { leaf_kinds::SPHERES_AND_TRIANGLES }>(Portable, ray, t_max)
-            }
-            _ => self.occluder_with::<_, { leaf_kinds::ALL }>(Portable, ray, t_max),
-        }
+        with_kinds!(self.kinds, K => self.occluder_with::<_, K>(Portable, ray, t_max))
     }
 
     /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`],
