@@ -142,13 +142,13 @@ pub fn render_region(
             let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, |y, st, out| {
                 eye_row(0.0, w + 1, y, st, out)
             })?;
-            let mut pixels = Vec::with_capacity(w * h);
-            for j in 0..h {
-                for i in 0..w {
-                    let c = |x: usize, y: usize| corners[y * (w + 1) + x];
-                    pixels.push(spd_mean(c(i, j), c(i + 1, j), c(i, j + 1), c(i + 1, j + 1)));
+            let mut pixels = vec![Vec3::ZERO; w * h];
+            pixels.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+                let (top, bottom) = (&corners[j * (w + 1)..], &corners[(j + 1) * (w + 1)..]);
+                for (i, p) in row.iter_mut().enumerate() {
+                    *p = spd_mean(top[i], top[i + 1], bottom[i], bottom[i + 1]);
                 }
-            }
+            });
             Some((pixels, stats))
         }
     };
@@ -193,27 +193,27 @@ fn trace_rows(
     observer: &dyn Observer,
     row: impl Fn(u32, &mut Stats, &mut Vec<Vec3>) + Sync,
 ) -> Option<(Vec<Vec3>, Stats)> {
-    let per_row: Option<Vec<(Vec<Vec3>, Stats)>> = (0..rows as u32)
-        .into_par_iter()
+    // Each task copies its row into place, so no thread assembles the image alone.
+    let mut out = vec![Vec3::ZERO; cols * rows];
+    let per_row: Option<Vec<Stats>> = out
+        .par_chunks_mut(cols)
+        .enumerate()
         .with_max_len(1)
-        .map(|j| {
+        .map(|(j, place)| {
             if observer.cancelled() {
                 return None;
             }
             let mut stats = Stats::default();
             trace::reset_shadow_cache();
             let mut values = Vec::with_capacity(cols);
-            row(y0 + j, &mut stats, &mut values);
-            debug_assert_eq!(values.len(), cols);
+            row(y0 + j as u32, &mut stats, &mut values);
+            place.copy_from_slice(&values);
             observer.row_done(stats.total_rays());
-            Some((values, stats))
+            Some(stats)
         })
         .collect();
-    let per_row = per_row?;
     let mut stats = Stats::default();
-    let mut out = Vec::with_capacity(cols * rows);
-    for (row, s) in per_row {
-        out.extend(row);
+    for s in per_row? {
         stats += s;
     }
     Some((out, stats))
