@@ -229,7 +229,7 @@ fn pack_into<T, B>(
 /// carries `mark` (blocks of one kind, see [`TRI4_LEAF`] and the others), counted as
 /// primitive tests.
 #[inline(always)]
-fn marked<B>(blocks: &[B], first: usize, count: usize, mark: usize) -> Option<&[B]> {
+pub(super) fn marked<B>(blocks: &[B], first: usize, count: usize, mark: usize) -> Option<&[B]> {
     if count & mark == 0 {
         return None;
     }

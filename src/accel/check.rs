@@ -2,7 +2,8 @@
 //! validation, shape statistics (with the SAH cost) and bounds.
 
 use super::build::{self, Packs};
-use super::bvh::{pack_of, Bvh, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
+use super::bvh::{marked, pack_of, Bvh, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
+use super::tri4::Block;
 use super::wide::WIDTH;
 use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
@@ -84,31 +85,17 @@ impl Bvh {
                 if count == 0 {
                     continue;
                 }
-                let blocks = |mark: usize| first..first + (count & !mark);
-                let prims: Vec<usize> = if count & TRI4_LEAF != 0 {
-                    self.tri4[blocks(TRI4_LEAF)]
-                        .iter()
-                        .flat_map(|b| b.prim)
-                        .collect::<Vec<u32>>()
-                } else if count & SPHERE4_LEAF != 0 {
-                    self.sphere4[blocks(SPHERE4_LEAF)]
-                        .iter()
-                        .flat_map(|b| b.prim)
-                        .collect()
-                } else if count & CONE4_LEAF != 0 {
-                    self.cone4[blocks(CONE4_LEAF)]
-                        .iter()
-                        .flat_map(|b| b.prim)
-                        .collect()
+                let prims = if let Some(b) = marked(&self.tri4, first, count, TRI4_LEAF) {
+                    block_prims(b)
+                } else if let Some(b) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
+                    block_prims(b)
+                } else if let Some(b) = marked(&self.cone4, first, count, CONE4_LEAF) {
+                    block_prims(b)
                 } else {
                     (first as u32..(first + count) as u32).collect()
-                }
-                .into_iter()
-                .filter(|&p| p != u32::MAX)
-                .map(|p| p as usize)
-                .collect();
+                };
                 let b = node.lane_bounds(lane);
-                for p in prims {
+                for p in prims.into_iter().filter(|&p| p != u32::MAX).map(|p| p as usize) {
                     let pb = self.primitives[p]
                         .bounds(&self.data)
                         .ok_or("unbounded primitive in a leaf lane")?;
@@ -200,4 +187,9 @@ impl Bvh {
             )
         })
     }
+}
+
+/// The primitive indices of `blocks`' lanes (`u32::MAX` for unused ones).
+fn block_prims<B: Block>(blocks: &[B]) -> Vec<u32> {
+    blocks.iter().flat_map(|b| *b.prims()).collect()
 }
