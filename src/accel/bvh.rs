@@ -67,6 +67,20 @@ pub(super) const SPHERE4_LEAF: usize = 1 << 30;
 /// `child` is the first of `count & !CONE4_LEAF` [`Cone4`] blocks.
 pub(super) const CONE4_LEAF: usize = 1 << 29;
 
+/// The shadow-cache value of [`Bvh::occluded_hinted`] that names nothing.
+pub const NO_HINT: u32 = u32::MAX;
+
+/// Shadow-cache values ([`Bvh::occluded_hinted`]): the top two bits say which array
+/// the rest indexes (an index past 2^30 would only alias another entry: a hint is
+/// only ever tested, so at worst it is useless).
+mod hint {
+    pub const PRIMITIVE: u32 = 0;
+    pub const TRI4: u32 = 1 << 30;
+    pub const SPHERE4: u32 = 2 << 30;
+    pub const CONE4: u32 = 3 << 30;
+    pub const INDEX: u32 = (1 << 30) - 1;
+}
+
 /// Sets of leaf kinds, as bits, for the copies of the queries (see [`Bvh::kinds`]).
 pub(super) mod leaf_kinds {
     use super::{Node8, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF, WIDTH};
@@ -558,47 +572,73 @@ impl Bvh {
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.occluder(ray, t_max).is_some()
+        self.occluder(ray, t_max, NO_HINT).is_some()
     }
 
-    /// [`Bvh::occluded`] that first tries primitive `hint` (an index from an earlier
-    /// query; any value is safe, `u32::MAX` for none) and leaves in it the occluder
-    /// found, or `u32::MAX` when nothing blocks the ray: neighbouring shadow rays are
-    /// usually blocked by the same primitive (Haines' shadow cache), or all lit. The
-    /// answer is the same as `occluded`'s.
+    /// [`Bvh::occluded`] that first tests the primitive or block of four named by
+    /// `hint` (a value an earlier query left there; any value is safe, [`NO_HINT`] for
+    /// none) and leaves in it the one that blocked this ray, or [`NO_HINT`] when
+    /// nothing did: neighbouring shadow rays are usually blocked by the same
+    /// primitive or one of its neighbours in the block (Haines' shadow cache), or all
+    /// lit. The answer is the same as `occluded`'s.
     #[inline]
     pub fn occluded_hinted(&self, ray: &Ray, t_max: f32, hint: &Cell<u32>) -> bool {
-        if let Some(p) = self.primitives.get(hint.get() as usize) {
-            if p.intersect(ray, t_max, &self.data).is_some() {
-                return true;
-            }
-        }
-        match self.occluder(ray, t_max) {
-            Some(index) => {
-                hint.set(index);
+        match self.occluder(ray, t_max, hint.get()) {
+            Some(blocker) => {
+                hint.set(blocker);
                 true
             }
             None => {
                 // Lit: the next ray (a neighbour) most likely is too, and then skips
                 // testing a stale hint.
-                hint.set(u32::MAX);
+                hint.set(NO_HINT);
                 false
             }
         }
     }
 
-    /// Some primitive lying on the ray with `0 < t < t_max` (the first one found).
-    fn occluder(&self, ray: &Ray, t_max: f32) -> Option<u32> {
+    /// The shadow-cache value (see [`Bvh::occluded_hinted`]) of a primitive or block
+    /// lying on the ray with `0 < t < t_max`, the one named by `hint` tested first.
+    fn occluder(&self, ray: &Ray, t_max: f32, hint: u32) -> Option<u32> {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return avx.occluder(self, ray, t_max);
+            return avx.occluder(self, ray, t_max, hint);
         }
-        with_kinds!(self.kinds, K => self.occluder_with::<_, K>(Portable, ray, t_max))
+        with_kinds!(self.kinds, K => self.occluder_with::<_, K>(Portable, ray, t_max, hint))
     }
 
-    /// Some primitive of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`],
-    /// and `KINDS` too) lying on `ray` (and `ray4`, the same ray broadcast) with
-    /// `0 < t < t_max`.
+    /// True when the primitive or block that shadow-cache value `hint` names lies on
+    /// the ray with `0 < t < t_max`; false for values naming nothing.
+    #[inline(always)]
+    fn hint_blocks(&self, hint: u32, ray: &Ray, ray4: &Ray4, t_max: f32) -> bool {
+        let index = (hint & hint::INDEX) as usize;
+        match hint & !hint::INDEX {
+            hint::PRIMITIVE => self
+                .primitives
+                .get(index)
+                .is_some_and(|p| p.intersect(ray, t_max, &self.data).is_some()),
+            hint::TRI4 => self.tri4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
+            hint::SPHERE4 => self.sphere4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
+            _ => self.cone4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
+        }
+    }
+
+    /// The primitives that shadow-cache value `hint` names (for tests).
+    #[cfg(test)]
+    pub(super) fn hint_primitives(&self, hint: u32) -> Vec<u32> {
+        let index = (hint & hint::INDEX) as usize;
+        let prims = match hint & !hint::INDEX {
+            hint::PRIMITIVE => return vec![hint],
+            hint::TRI4 => self.tri4.get(index).map(|b| *b.prims()),
+            hint::SPHERE4 => self.sphere4.get(index).map(|b| *b.prims()),
+            _ => self.cone4.get(index).map(|b| *b.prims()),
+        };
+        prims.into_iter().flatten().filter(|&p| p != u32::MAX).collect()
+    }
+
+    /// The shadow-cache value (see [`Bvh::occluded_hinted`]) of a primitive or block
+    /// of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`], and `KINDS`
+    /// too) lying on `ray` (and `ray4`, the same ray broadcast) with `0 < t < t_max`.
     #[inline(always)]
     fn leaf_any<S: Kernels, const KINDS: u32>(
         &self,
@@ -611,26 +651,30 @@ impl Bvh {
     ) -> Option<u32> {
         if KINDS & leaf_kinds::SPHERES != 0 {
             if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
-                return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+                let k = blocks.iter().position(|b| b.any_hit(ray4, t_max))?;
+                return Some(hint::SPHERE4 | (first + k) as u32);
             }
         }
         if KINDS & leaf_kinds::CONES != 0 {
             if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
-                return blocks.iter().find_map(|b| b.any_hit(ray4, t_max));
+                let k = blocks.iter().position(|b| b.any_hit(ray4, t_max))?;
+                return Some(hint::CONE4 | (first + k) as u32);
             }
         }
         if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
-            return self.tri4_any(kernels, blocks, ray, ray4, t_max);
+            let k = self.tri4_any(kernels, blocks, ray, ray4, t_max)?;
+            return Some(hint::TRI4 | (first + k) as u32);
         }
         count!(PRIMS, count);
         let leaf = &self.primitives[first..first + count];
         let k = leaf
             .iter()
             .position(|p| p.intersect(ray, t_max, &self.data).is_some())?;
-        Some((first + k) as u32)
+        Some(hint::PRIMITIVE | (first + k) as u32)
     }
 
-    /// Some triangle of `blocks` lying on `ray` (and `ray4`) with `0 < t < t_max`.
+    /// The position in `blocks` of a triangle block lying on `ray` (and `ray4`) with
+    /// `0 < t < t_max`.
     #[inline(always)]
     fn tri4_any<S: Kernels>(
         &self,
@@ -639,16 +683,17 @@ impl Bvh {
         ray: &Ray,
         ray4: &Ray4,
         t_max: f32,
-    ) -> Option<u32> {
+    ) -> Option<usize> {
         let mut pairs = blocks.chunks_exact(2);
-        for pair in &mut pairs {
+        for (k, pair) in (&mut pairs).enumerate() {
             let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
             if mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                return Some(pair[lane / LANES].prim[lane % LANES]);
+                return Some(2 * k + (mask.trailing_zeros() as usize) / LANES);
             }
         }
-        pairs.remainder().iter().find_map(|b| b.any_hit(ray4, t_max))
+        let rest = pairs.remainder();
+        let k = rest.iter().position(|b| b.any_hit(ray4, t_max))?;
+        Some(blocks.len() - rest.len() + k)
     }
 
     /// [`Bvh::occluder`] with the slab test `kernels` (see [`Bvh::closest_hit_with`]).
@@ -658,19 +703,23 @@ impl Bvh {
         kernels: S,
         ray: &Ray,
         t_max: f32,
+        hint: u32,
     ) -> Option<u32> {
+        let ray4 = Ray4::new(ray);
+        if self.hint_blocks(hint, ray, &ray4, t_max) {
+            return Some(hint);
+        }
         let unbounded = &self.primitives[self.bounded..];
         if let Some(i) = unbounded
             .iter()
             .position(|p| p.intersect(ray, t_max, &self.data).is_some())
         {
-            return Some((self.bounded + i) as u32);
+            return Some(hint::PRIMITIVE | (self.bounded + i) as u32);
         }
         if self.wide.is_empty() {
             return None;
         }
         let boxes = RayBoxes::new(ray);
-        let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;
@@ -696,8 +745,9 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
-                    if let Some(p) = self.leaf_any::<S, KINDS>(kernels, first, count, ray, &ray4, t_max) {
-                        return Some(p);
+                    if let Some(blocker) = self.leaf_any::<S, KINDS>(kernels, first, count, ray, &ray4, t_max)
+                    {
+                        return Some(blocker);
                     }
                 }
                 match next {

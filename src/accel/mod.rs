@@ -22,6 +22,7 @@ mod wide;
 #[cfg(feature = "counters")]
 pub use bvh::counters;
 pub use bvh::Bvh;
+pub use bvh::NO_HINT;
 pub use check::BvhStats;
 pub use node::BvhNode;
 pub use packet::PACKET;

@@ -2,7 +2,7 @@
 //! agreement with the brute-force scan on random scenes and rays.
 
 use super::bvh::leaf_kinds;
-use super::Bvh;
+use super::{Bvh, NO_HINT};
 use crate::geometry::build_geometry;
 use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
@@ -183,17 +183,19 @@ proptest! {
                 let any = bvh.closest_hit_linear(&r, t_max).is_some();
                 prop_assert_eq!(bvh.occluded(&r, t_max), any);
                 // The shadow cache never changes the answer, whatever the hint holds
-                // (nothing, a primitive, a stale index past the end); afterwards it
-                // holds a primitive that really lies on the ray when one does, and
-                // nothing when none does.
-                for start in [u32::MAX, 0, 7, 1000] {
+                // (nothing, a primitive, a block of each kind, stale indices past the
+                // ends); afterwards it names primitives of which one really lies on
+                // the ray when one does, and nothing when none does.
+                for start in [NO_HINT, 0, 7, 1000, 1 << 30, (1 << 30) | 1, 2 << 30, 3 << 30, (2 << 30) | 999] {
                     let hint = std::cell::Cell::new(start);
                     prop_assert_eq!(bvh.occluded_hinted(&r, t_max, &hint), any);
                     if any {
-                        let p = bvh.primitive(hint.get());
-                        prop_assert!(p.intersect(&r, t_max, bvh.data()).is_some());
+                        let blocker = bvh.hint_primitives(hint.get());
+                        prop_assert!(blocker
+                            .iter()
+                            .any(|&p| bvh.primitive(p).intersect(&r, t_max, bvh.data()).is_some()));
                     } else {
-                        prop_assert_eq!(hint.get(), u32::MAX);
+                        prop_assert_eq!(hint.get(), NO_HINT);
                     }
                 }
             }
@@ -348,7 +350,11 @@ fn assert_portable_copy<const KINDS: u32>(
         closest
     );
     for (&t_max, &any) in [2.0, 10.0, f32::INFINITY].iter().zip(occluded) {
-        assert_eq!(bvh.occluder_with::<_, KINDS>(Portable, r, t_max).is_some(), any);
+        assert_eq!(
+            bvh.occluder_with::<_, KINDS>(Portable, r, t_max, NO_HINT)
+                .is_some(),
+            any
+        );
     }
 }
 

@@ -263,11 +263,10 @@ pub(super) trait Block {
         Some((hit, self.prims()[lane]))
     }
 
-    /// The primitive index of the lowest lane hit with `0 < t < t_max`, if any.
+    /// True when some lane is hit with `0 < t < t_max`.
     #[inline(always)]
-    fn any_hit(&self, ray: &Ray4, t_max: f32) -> Option<u32> {
-        let mask = self.test(ray, t_max).3;
-        (mask != 0).then(|| self.prims()[mask.trailing_zeros() as usize])
+    fn any_hit(&self, ray: &Ray4, t_max: f32) -> bool {
+        self.test(ray, t_max).3 != 0
     }
 }
 
@@ -306,7 +305,7 @@ pub(super) fn assert_blocks_match_scalar<S: Copy, B: Block>(
                 expected.map(|(h, p)| (h.t.to_bits(), p)),
                 "block {first}, ray {i}"
             );
-            assert_eq!(block.any_hit(&ray4, *t_max).is_some(), expected.is_some());
+            assert_eq!(block.any_hit(&ray4, *t_max), expected.is_some());
         }
     }
 }
@@ -351,10 +350,7 @@ mod tests {
                     _ => Some(h),
                 });
             assert_eq!(block.closest_hit(&Ray4::new(&ray), 100.0), expected, "ray {i}");
-            assert_eq!(
-                block.any_hit(&Ray4::new(&ray), 100.0).is_some(),
-                expected.is_some()
-            );
+            assert_eq!(block.any_hit(&Ray4::new(&ray), 100.0), expected.is_some());
         }
     }
 
@@ -368,8 +364,8 @@ mod tests {
             Some((2.0, 1))
         );
         assert_eq!(block.closest_hit(&ray, 2.0), None);
-        assert_eq!(block.any_hit(&ray, 2.0), None);
-        assert_eq!(block.any_hit(&ray, 2.5), Some(1));
+        assert!(!block.any_hit(&ray, 2.0));
+        assert!(block.any_hit(&ray, 2.5));
     }
 
     #[test]
@@ -377,6 +373,6 @@ mod tests {
         let block = Tri4::new(&[]);
         let ray = Ray4::new(&Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)));
         assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
-        assert_eq!(block.any_hit(&ray, f32::INFINITY), None);
+        assert!(!block.any_hit(&ray, f32::INFINITY));
     }
 }

@@ -9,7 +9,7 @@ use super::shade::{reflect, refract, Lighting};
 use super::stats::Stats;
 use std::cell::Cell;
 
-use crate::accel::{Bvh, PACKET};
+use crate::accel::{Bvh, NO_HINT, PACKET};
 use crate::geometry::{Hit, Primitive};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
@@ -96,19 +96,15 @@ impl Recorder for NoRecord {
     const ENABLED: bool = false;
 }
 
-/// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
-/// at distance `t`: proportional to the floating-point error of `p = o + t d`, so it
-/// works for tiny and huge scenes alike (no global epsilon).
 /// Lights and ray-tree depths with a shadow cache slot; shadow rays of other lights
 /// or deeper bounces simply go without one.
 const HINT_LIGHTS: usize = 8;
 const HINT_DEPTHS: usize = 8;
-const NO_HINT: u32 = u32::MAX;
 
 thread_local! {
-    /// Shadow cache (Haines): per light and depth, the primitive that last blocked a
-    /// shadow ray on this thread. It only changes which primitive is tested first,
-    /// never an answer; it is cleared at the start of every row (see
+    /// Shadow cache (Haines): per light and depth, the primitive or leaf block of four
+    /// that last blocked a shadow ray on this thread (`Bvh::occluded_hinted`). It only
+    /// changes what is tested first, never an answer; it is cleared at the start of every row (see
     /// [`reset_shadow_cache`]) so each row's work is the same whichever thread runs it.
     static SHADOW_HINTS: [Cell<u32>; HINT_LIGHTS * HINT_DEPTHS] =
         const { [const { Cell::new(NO_HINT) }; HINT_LIGHTS * HINT_DEPTHS] };
@@ -119,6 +115,9 @@ pub fn reset_shadow_cache() {
     SHADOW_HINTS.with(|hints| hints.iter().for_each(|h| h.set(NO_HINT)));
 }
 
+/// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
+/// at distance `t`: proportional to the floating-point error of `p = o + t d`, so it
+/// works for tiny and huge scenes alike (no global epsilon).
 #[inline]
 fn offset_scale(p: Vec3, ray: &Ray, t: f32) -> f32 {
     OFFSET_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
