@@ -66,9 +66,9 @@ impl Avx {
 
     /// `Bvh::occluder`, compiled for AVX2.
     #[inline]
-    pub fn occluder(self, bvh: &Bvh, ray: &Ray, t_max: f32, hint: u32) -> Option<u32> {
+    pub fn occluder(self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
         // SAFETY: as in `closest_hit`.
-        unsafe { occluder_avx(self, bvh, ray, t_max, hint) }
+        unsafe { occluder_avx(self, bvh, ray, t_max) }
     }
 }
 
@@ -83,8 +83,8 @@ fn closest_hit_packet_avx(avx: Avx, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &m
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
-fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32, hint: u32) -> Option<u32> {
-    with_kinds!(bvh.kinds, K => bvh.occluder_with::<_, K>(avx, ray, t_max, hint))
+fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
+    with_kinds!(bvh.kinds, K => bvh.occluder_with::<_, K>(avx, ray, t_max))
 }
 
 impl Kernels for Avx {

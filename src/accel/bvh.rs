@@ -572,7 +572,7 @@ impl Bvh {
     /// True when anything lies on the ray with `0 < t < t_max` (stops at the first hit).
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.occluder(ray, t_max, NO_HINT).is_some()
+        self.occluder(ray, t_max).is_some()
     }
 
     /// [`Bvh::occluded`] that first tests the primitive or block of four named by
@@ -583,7 +583,11 @@ impl Bvh {
     /// lit. The answer is the same as `occluded`'s.
     #[inline]
     pub fn occluded_hinted(&self, ray: &Ray, t_max: f32, hint: &Cell<u32>) -> bool {
-        match self.occluder(ray, t_max, hint.get()) {
+        // Tested here, not in the traversal's copies, so `occluded` pays nothing for it.
+        if hint.get() != NO_HINT && self.hint_blocks(hint.get(), ray, &Ray4::new(ray), t_max) {
+            return true;
+        }
+        match self.occluder(ray, t_max) {
             Some(blocker) => {
                 hint.set(blocker);
                 true
@@ -598,13 +602,13 @@ impl Bvh {
     }
 
     /// The shadow-cache value (see [`Bvh::occluded_hinted`]) of a primitive or block
-    /// lying on the ray with `0 < t < t_max`, the one named by `hint` tested first.
-    fn occluder(&self, ray: &Ray, t_max: f32, hint: u32) -> Option<u32> {
+    /// lying on the ray with `0 < t < t_max` (the first one found).
+    fn occluder(&self, ray: &Ray, t_max: f32) -> Option<u32> {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return avx.occluder(self, ray, t_max, hint);
+            return avx.occluder(self, ray, t_max);
         }
-        with_kinds!(self.kinds, K => self.occluder_with::<_, K>(Portable, ray, t_max, hint))
+        with_kinds!(self.kinds, K => self.occluder_with::<_, K>(Portable, ray, t_max))
     }
 
     /// True when the primitive or block that shadow-cache value `hint` names lies on
@@ -703,12 +707,7 @@ impl Bvh {
         kernels: S,
         ray: &Ray,
         t_max: f32,
-        hint: u32,
     ) -> Option<u32> {
-        let ray4 = Ray4::new(ray);
-        if self.hint_blocks(hint, ray, &ray4, t_max) {
-            return Some(hint);
-        }
         let unbounded = &self.primitives[self.bounded..];
         if let Some(i) = unbounded
             .iter()
@@ -720,6 +719,7 @@ impl Bvh {
             return None;
         }
         let boxes = RayBoxes::new(ray);
+        let ray4 = Ray4::new(ray);
         STACK.with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;

@@ -350,11 +350,7 @@ fn assert_portable_copy<const KINDS: u32>(
         closest
     );
     for (&t_max, &any) in [2.0, 10.0, f32::INFINITY].iter().zip(occluded) {
-        assert_eq!(
-            bvh.occluder_with::<_, KINDS>(Portable, r, t_max, NO_HINT)
-                .is_some(),
-            any
-        );
+        assert_eq!(bvh.occluder_with::<_, KINDS>(Portable, r, t_max).is_some(), any);
     }
 }
 
