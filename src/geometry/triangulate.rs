@@ -271,6 +271,40 @@ mod tests {
         (0..n).any(|i| (i + 2..n).any(|j| !(i == 0 && j == n - 1) && touch(edge(i), edge(j))))
     }
 
+    /// Uniform numbers in [0, 1) from a fixed-seed xorshift generator.
+    fn uniform(mut state: u64) -> impl FnMut() -> f32 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// `n` points around the origin at radii `r0 + next()`, at evenly spaced angles or,
+    /// when `shuffled`, at random ones (the ring then often crosses itself); with
+    /// `grid`, rounded to quarter units so that points fall on others' edges.
+    fn star_ring(
+        n: usize,
+        r0: f32,
+        shuffled: bool,
+        grid: bool,
+        next: &mut impl FnMut() -> f32,
+    ) -> Vec<[f64; 2]> {
+        (0..n)
+            .map(|k| {
+                let turn = if shuffled { next() } else { k as f32 / n as f32 };
+                let a = std::f32::consts::TAU * turn;
+                let r = r0 + next();
+                let (mut x, mut y) = (r * a.cos(), r * a.sin());
+                if grid {
+                    (x, y) = ((x * 4.0).round(), (y * 4.0).round());
+                }
+                [x as f64, y as f64]
+            })
+            .collect()
+    }
+
     /// `is_ear` without the bounding-box rejection: every other vertex through the
     /// three cross products.
     fn is_ear_reference(xy: &[[f64; 2]], ring: &[usize], i: usize, orientation: f64) -> bool {
@@ -288,29 +322,13 @@ mod tests {
 
     #[test]
     fn box_rejection_keeps_every_ear_decision() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15_u64);
         let (mut ears, mut blocked) = (0, 0);
         for case in 0..1000 {
             // Star-shaped rings with jittered radii, now and then on a coarse grid so
             // vertices fall on the candidate triangles' edges and corners.
             let n = 4 + case % 60;
-            let xy: Vec<[f64; 2]> = (0..n)
-                .map(|k| {
-                    let a = std::f32::consts::TAU * k as f32 / n as f32;
-                    let r = 0.05 + next();
-                    let (mut x, mut y) = (r * a.cos(), r * a.sin());
-                    if case % 4 == 0 {
-                        (x, y) = ((x * 4.0).round(), (y * 4.0).round());
-                    }
-                    [x as f64, y as f64]
-                })
-                .collect();
+            let xy = star_ring(n, 0.05, false, case % 4 == 0, &mut next);
             let ring: Vec<usize> = (0..n).collect();
             let orientation = signed_area(&xy, &ring).signum();
             for i in 0..n {
@@ -337,34 +355,13 @@ mod tests {
 
     #[test]
     fn edge_sweep_agrees_with_all_pairs() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d_u64);
         let mut found = [0; 2];
         for case in 0..2000 {
             let n = 3 + case % 40;
             // Star-shaped rings with jittered radii (simple) or shuffled angles (often
             // crossing), on a coarse grid now and then so edges touch and overlap.
-            let xy: Vec<[f64; 2]> = (0..n)
-                .map(|k| {
-                    let turn = if case % 3 == 0 {
-                        next()
-                    } else {
-                        k as f32 / n as f32
-                    };
-                    let a = std::f32::consts::TAU * turn;
-                    let r = 1.0 + next();
-                    let (mut x, mut y) = (r * a.cos(), r * a.sin());
-                    if case % 5 == 0 {
-                        (x, y) = ((x * 4.0).round(), (y * 4.0).round());
-                    }
-                    [x as f64, y as f64]
-                })
-                .collect();
+            let xy = star_ring(n, 1.0, case % 3 == 0, case % 5 == 0, &mut next);
             let ring: Vec<usize> = (0..n).collect();
             let want = all_pairs(&xy, &ring);
             assert_eq!(self_intersects(&xy, &ring), want, "case {case}");
