@@ -73,7 +73,7 @@ pub const NO_HINT: u32 = u32::MAX;
 /// Shadow-cache values ([`Bvh::occluded_hinted`]): the top two bits say which array
 /// the rest indexes (an index past 2^30 would only alias another entry: a hint is
 /// only ever tested, so at worst it is useless).
-mod hint {
+mod hint_bits {
     pub const PRIMITIVE: u32 = 0;
     pub const TRI4: u32 = 1 << 30;
     pub const SPHERE4: u32 = 2 << 30;
@@ -615,14 +615,14 @@ impl Bvh {
     /// the ray with `0 < t < t_max`; false for values naming nothing.
     #[inline(always)]
     fn hint_blocks(&self, hint: u32, ray: &Ray, ray4: &Ray4, t_max: f32) -> bool {
-        let index = (hint & hint::INDEX) as usize;
-        match hint & !hint::INDEX {
-            hint::PRIMITIVE => self
+        let index = (hint & hint_bits::INDEX) as usize;
+        match hint & !hint_bits::INDEX {
+            hint_bits::PRIMITIVE => self
                 .primitives
                 .get(index)
                 .is_some_and(|p| p.intersect(ray, t_max, &self.data).is_some()),
-            hint::TRI4 => self.tri4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
-            hint::SPHERE4 => self.sphere4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
+            hint_bits::TRI4 => self.tri4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
+            hint_bits::SPHERE4 => self.sphere4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
             _ => self.cone4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
         }
     }
@@ -630,11 +630,11 @@ impl Bvh {
     /// The primitives that shadow-cache value `hint` names (for tests).
     #[cfg(test)]
     pub(super) fn hint_primitives(&self, hint: u32) -> Vec<u32> {
-        let index = (hint & hint::INDEX) as usize;
-        let prims = match hint & !hint::INDEX {
-            hint::PRIMITIVE => return vec![hint],
-            hint::TRI4 => self.tri4.get(index).map(|b| *b.prims()),
-            hint::SPHERE4 => self.sphere4.get(index).map(|b| *b.prims()),
+        let index = (hint & hint_bits::INDEX) as usize;
+        let prims = match hint & !hint_bits::INDEX {
+            hint_bits::PRIMITIVE => return vec![hint],
+            hint_bits::TRI4 => self.tri4.get(index).map(|b| *b.prims()),
+            hint_bits::SPHERE4 => self.sphere4.get(index).map(|b| *b.prims()),
             _ => self.cone4.get(index).map(|b| *b.prims()),
         };
         prims.into_iter().flatten().filter(|&p| p != u32::MAX).collect()
@@ -656,25 +656,25 @@ impl Bvh {
         if KINDS & leaf_kinds::SPHERES != 0 {
             if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
                 let k = blocks.iter().position(|b| b.any_hit(ray4, t_max))?;
-                return Some(hint::SPHERE4 | (first + k) as u32);
+                return Some(hint_bits::SPHERE4 | (first + k) as u32);
             }
         }
         if KINDS & leaf_kinds::CONES != 0 {
             if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
                 let k = blocks.iter().position(|b| b.any_hit(ray4, t_max))?;
-                return Some(hint::CONE4 | (first + k) as u32);
+                return Some(hint_bits::CONE4 | (first + k) as u32);
             }
         }
         if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
             let k = self.tri4_any(kernels, blocks, ray, ray4, t_max)?;
-            return Some(hint::TRI4 | (first + k) as u32);
+            return Some(hint_bits::TRI4 | (first + k) as u32);
         }
         count!(PRIMS, count);
         let leaf = &self.primitives[first..first + count];
         let k = leaf
             .iter()
             .position(|p| p.intersect(ray, t_max, &self.data).is_some())?;
-        Some(hint::PRIMITIVE | (first + k) as u32)
+        Some(hint_bits::PRIMITIVE | (first + k) as u32)
     }
 
     /// The position in `blocks` of a triangle block lying on `ray` (and `ray4`) with
@@ -713,7 +713,7 @@ impl Bvh {
             .iter()
             .position(|p| p.intersect(ray, t_max, &self.data).is_some())
         {
-            return Some(hint::PRIMITIVE | (self.bounded + i) as u32);
+            return Some(hint_bits::PRIMITIVE | (self.bounded + i) as u32);
         }
         if self.wide.is_empty() {
             return None;
