@@ -31,6 +31,21 @@ use rayon::prelude::*;
 pub fn build_geometry(scene: &Scene) -> Geometry {
     let mut g = Geometry::default();
     g.primitives.reserve(scene.primitive_count());
+    // Spheres and cones (hundreds of thousands in generated scenes) are converted in
+    // parallel, straight into place.
+    g.primitives
+        .par_extend(scene.spheres.par_iter().map(|s| Primitive {
+            shape: Shape::Sphere(SphereShape::new(s.center, s.radius)),
+            material: s.material,
+            line: s.line,
+            kind: SourceKind::Sphere,
+        }));
+    g.primitives.par_extend(scene.cones.par_iter().map(|c| Primitive {
+        shape: Shape::Cone(ConeShape::new(c.base, c.base_radius, c.apex, c.apex_radius)),
+        material: c.material,
+        line: c.line,
+        kind: SourceKind::Cone,
+    }));
     let prims = &mut g.primitives;
     let data = &mut g.data;
     let mut push = |shape, material, line, kind| {
@@ -42,14 +57,6 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
         })
     };
 
-    for s in &scene.spheres {
-        let shape = Shape::Sphere(SphereShape::new(s.center, s.radius));
-        push(shape, s.material, s.line, SourceKind::Sphere);
-    }
-    for c in &scene.cones {
-        let shape = Shape::Cone(ConeShape::new(c.base, c.base_radius, c.apex, c.apex_radius));
-        push(shape, c.material, c.line, SourceKind::Cone);
-    }
     // Polygons are triangulated in parallel, chunk by chunk; the pieces are pushed in
     // input order, so the result is the same as one pass would give.
     let pieces: Vec<Vec<(u32, Option<Triangle>)>> = scene
