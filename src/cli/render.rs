@@ -41,7 +41,8 @@ pub struct RenderArgs {
     /// Maximum ray-tree depth; the eye ray is depth 1.
     #[arg(long, default_value_t = DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH_CAP as i64))]
     pub max_depth: u32,
-    /// Worker threads (default: one per core).
+    /// Worker threads for parsing (files of 1 MiB or more), building and rendering
+    /// (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
     /// SPD benchmark protocol: rays through the (w+1) x (h+1) pixel corners, the four
@@ -125,7 +126,13 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             out_path.display()
         )));
     }
-    let mut loaded = load_scene_with(&args.scene, &args.limits.scene)?;
+    // One pool for parsing (large files go in pieces), building and rendering.
+    let threads = args.threads.map(|t| t as usize).unwrap_or_else(num_cpus);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
+    let mut loaded = pool.install(|| load_scene_with(&args.scene, &args.limits.scene))?;
     print_warnings(&loaded, 20);
     let scene = &loaded.scene;
     let opts = render_options(&args, scene);
@@ -139,12 +146,6 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
     let mut stats_out = args.stats_json.as_deref().map(AtomicOutput::create).transpose()?;
-
-    let threads = args.threads.map(|t| t as usize).unwrap_or_else(num_cpus);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
 
     let t0 = Instant::now();
     let bvh = pool.install(|| build_bvh(&mut loaded.scene));

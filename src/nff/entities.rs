@@ -89,6 +89,7 @@ impl Parser<'_> {
     /// `b r g b`
     pub(super) fn background(&mut self, _kw: &Token) -> Result<(), ParseError> {
         self.scene.background = self.vec3("background colour r g b")?;
+        self.saw_background = true;
         Ok(())
     }
 

@@ -59,6 +59,17 @@ impl<'a> Lexer<'a> {
         }
     }
 
+    /// Lexes `src` from byte `pos`, the start of line `line` (a piece of a file
+    /// parsed on its own: locations stay those of the whole file).
+    pub(super) fn starting_at(src: &'a [u8], pos: usize, line: u32) -> Self {
+        Lexer {
+            src,
+            pos,
+            line,
+            line_start: pos,
+        }
+    }
+
     /// Line and column just past the last byte, for "unexpected end of file".
     pub fn end_location(&self) -> (u32, u32) {
         let mut line = self.line;

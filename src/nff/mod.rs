@@ -16,6 +16,7 @@
 //! aabb xmin xmax ymin ymax zmin zmax     axis-aligned box (extension)
 //! ```
 
+mod chunks;
 mod entities;
 mod error;
 mod lexer;

@@ -2,6 +2,7 @@
 //! warnings, limits) and the keyword dispatch. The keywords themselves are read in
 //! `entities.rs`, one function per keyword, each quoting its syntax.
 
+use super::chunks;
 use super::error::{ParseError, ParseErrorKind};
 use super::lexer::{Lexer, Token};
 use super::limits::{Limits, MAX_WARNINGS};
@@ -30,35 +31,38 @@ pub fn parse_bytes(src: &[u8]) -> Result<Scene, ParseError> {
 }
 
 /// Parses NFF from raw bytes, refusing a file that describes more than `limits` allow
-/// (at the first primitive, vertex or light past the limit).
+/// (at the first primitive, vertex or light past the limit). Files of a megabyte or
+/// more are parsed in pieces on the current rayon pool's threads when they split
+/// cleanly (see `chunks.rs`); the scene, warnings and errors are the same either way.
 pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
-    let mut p = Parser {
-        lexer: Lexer::new(src),
-        scene: Scene::default(),
-        material: None,
-        saw_view: false,
-        limits: *limits,
-        warnings_left_out: 0,
-    };
-    p.run()?;
-    if p.warnings_left_out > 0 {
-        let n = p.warnings_left_out;
-        let end = p.lexer.end_location();
-        p.scene.warnings.push(Warning {
-            line: end.0,
-            column: end.1,
-            message: format!("... and {n} more warnings"),
-        });
+    match chunks::parse_in_parallel(src, limits) {
+        Some(scene) => Ok(scene),
+        None => parse_in_one_pass(src, limits),
     }
-    Ok(p.scene)
 }
+
+/// [`parse_bytes_with`] on the calling thread, token after token.
+pub(super) fn parse_in_one_pass(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
+    let mut p = Parser::new(Lexer::new(src), limits, false);
+    p.run()?;
+    let end = p.lexer.end_location();
+    Ok(p.finish(end))
+}
+
+/// The material index primitives get, in a piece of a file parsed on its own, before
+/// the piece's first `f`: the material then current in the pieces before it.
+pub(super) const INHERITED_MATERIAL: u32 = u32::MAX;
 
 pub(super) struct Parser<'a> {
     pub(super) lexer: Lexer<'a>,
     pub(super) scene: Scene,
     /// Index of the current material, `None` before the first `f`.
     pub(super) material: Option<u32>,
+    /// A piece of a file after its first: objects before any `f` take
+    /// [`INHERITED_MATERIAL`] (no default material, no warning).
+    pub(super) inherits_material: bool,
     pub(super) saw_view: bool,
+    pub(super) saw_background: bool,
     pub(super) limits: Limits,
     /// Warnings past [`MAX_WARNINGS`], counted instead of kept.
     pub(super) warnings_left_out: usize,
@@ -80,7 +84,23 @@ pub(super) fn invalid(at: Loc, msg: impl Into<String>) -> ParseError {
 }
 
 impl<'a> Parser<'a> {
-    fn run(&mut self) -> Result<(), ParseError> {
+    /// A parser of `lexer`'s tokens into an empty scene.
+    pub(super) fn new(lexer: Lexer<'a>, limits: &Limits, inherits_material: bool) -> Self {
+        Parser {
+            lexer,
+            scene: Scene::default(),
+            material: None,
+            inherits_material,
+            saw_view: false,
+            saw_background: false,
+            limits: *limits,
+            warnings_left_out: 0,
+        }
+    }
+
+    /// Parses every token (the warning for a missing view comes in
+    /// [`Parser::finish`]).
+    pub(super) fn run(&mut self) -> Result<(), ParseError> {
         while let Some(tok) = self.lexer.next() {
             match tok.text {
                 b"v" => self.view(&tok)?,
@@ -106,6 +126,12 @@ impl<'a> Parser<'a> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The scene, with the file's closing warnings: a missing view, and how many
+    /// warnings were left out (reported at `end`, the end of the file).
+    pub(super) fn finish(mut self, end: Loc) -> Scene {
         if !self.saw_view {
             self.warn(
                 (1, 1),
@@ -113,7 +139,15 @@ impl<'a> Parser<'a> {
                     .into(),
             );
         }
-        Ok(())
+        if self.warnings_left_out > 0 {
+            let n = self.warnings_left_out;
+            self.scene.warnings.push(Warning {
+                line: end.0,
+                column: end.1,
+                message: format!("... and {n} more warnings"),
+            });
+        }
+        self.scene
     }
 
     /// Refuses the primitive at `at` if the scene already holds the most allowed.
@@ -211,6 +245,9 @@ impl<'a> Parser<'a> {
     pub(super) fn current_material(&mut self, at: Loc) -> u32 {
         if let Some(m) = self.material {
             return m;
+        }
+        if self.inherits_material {
+            return INHERITED_MATERIAL;
         }
         self.warn(
             at,
