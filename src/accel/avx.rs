@@ -26,7 +26,7 @@ use std::arch::x86_64::{
 use super::bvh::{leaf_kinds, with_kinds, Bvh};
 use super::ray8::{Hits8, Ray8, RAYS};
 use super::tri4::Tri4;
-use super::wide::{Kernels, Node8, RayBoxes, WIDTH};
+use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -92,6 +92,12 @@ impl Kernels for Avx {
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         // SAFETY: `self` proves the CPU has AVX.
         unsafe { entries_avx(node, r, t_max, t_limit) }
+    }
+
+    #[inline(always)]
+    fn entered(self, node: &Node8, r: &RayBoxes, t_max: f32) -> u32 {
+        // SAFETY: as in `entries`.
+        unsafe { entered_avx(node, r, t_max) }
     }
 
     #[inline(always)]
@@ -223,27 +229,49 @@ fn moller_trumbore8(
     (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
 }
 
-/// [`Node8::entries`] in AVX registers: the same operations on the same operands in
-/// the same order (`max(t, near)`, `min(t, far)`: with equal operands, including
-/// `-0.0` against `0.0`, or a NaN `t`, both return the second one, as the SSE
-/// version does).
+/// The entry and exit distances of `r` for `node`'s eight boxes within `[0, t_max]`,
+/// the far planes divided with `r.inv` times `exit_scale` (see [`entered_avx`]).
 #[target_feature(enable = "avx")]
-fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+#[inline]
+fn slabs_avx(node: &Node8, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (__m256, __m256) {
     let mut near = _mm256_setzero_ps();
     let mut far = _mm256_set1_ps(t_max);
     for axis in 0..3 {
         let (lo, hi) = r.planes(node, axis);
         let origin = _mm256_set1_ps(r.origin[axis]);
         let inv = _mm256_set1_ps(r.inv[axis]);
+        let inv_far = _mm256_set1_ps(r.inv[axis] * exit_scale);
         let (lo, hi) = (load8(lo), load8(hi));
         near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(lo, origin), inv), near);
-        far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(hi, origin), inv), far);
+        far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(hi, origin), inv_far), far);
     }
+    (near, far)
+}
+
+/// [`Node8::entries`] in AVX registers: the same operations on the same operands in
+/// the same order (`max(t, near)`, `min(t, far)`: with equal operands, including
+/// `-0.0` against `0.0`, or a NaN `t`, both return the second one, as the SSE
+/// version does).
+#[target_feature(enable = "avx")]
+fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+    // (A scale of one multiplies by nothing: `x * 1.0 == x` for every float.)
+    let (near, far) = slabs_avx(node, r, t_max, 1.0);
     let hit = _mm256_and_ps(
-        _mm256_cmp_ps::<_CMP_LE_OQ>(near, far),
+        _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(FAR_SCALE))),
         _mm256_cmp_ps::<_CMP_LT_OQ>(near, _mm256_set1_ps(t_limit)),
     );
     (store8(near), _mm256_movemask_ps(hit) as u32)
+}
+
+/// [`Node8::entered`] in AVX registers, as [`entries_avx`] is [`Node8::entries`].
+#[target_feature(enable = "avx")]
+fn entered_avx(node: &Node8, r: &RayBoxes, t_max: f32) -> u32 {
+    let (near, far) = slabs_avx(node, r, t_max, FAR_SCALE);
+    let hit = _mm256_and_ps(
+        _mm256_cmp_ps::<_CMP_LE_OQ>(near, far),
+        _mm256_cmp_ps::<_CMP_LT_OQ>(near, _mm256_set1_ps(f32::INFINITY)),
+    );
+    _mm256_movemask_ps(hit) as u32
 }
 
 #[cfg(test)]
@@ -291,6 +319,11 @@ mod tests {
                 let (at, am) = avx.entries(&node, &r, t_max, t_limit);
                 assert_eq!(pm, am, "ray {i}");
                 assert_eq!(pt.map(f32::to_bits), at.map(f32::to_bits), "ray {i}");
+                assert_eq!(
+                    Portable.entered(&node, &r, t_max),
+                    avx.entered(&node, &r, t_max),
+                    "ray {i}"
+                );
                 entered += pm.count_ones();
             }
         }

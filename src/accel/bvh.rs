@@ -401,15 +401,33 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
+        self.walk_closest::<S, KINDS>(kernels, 0, ray, &boxes, &ray4, &mut nearest);
+        nearest.best
+    }
+
+    /// The tree walk of [`Bvh::closest_hit`] through the subtree of the wide node
+    /// `start` (the root: the whole tree), improving `nearest`; `boxes` and `ray4` are
+    /// `ray` prepared for the slab and leaf tests. The packets hand a subtree over to
+    /// it once only a few of their rays go on into it (`packet::SOLO`).
+    #[inline(always)]
+    pub(super) fn walk_closest<S: Kernels, const KINDS: u32>(
+        &self,
+        kernels: S,
+        start: u32,
+        ray: &Ray,
+        boxes: &RayBoxes,
+        ray4: &Ray4,
+        nearest: &mut Nearest,
+    ) {
         STACK.with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;
-            let mut index = 0u32;
+            let mut index = start;
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let limit = nearest.limit;
-                let (t, mask) = kernels.entries(node, &boxes, limit, limit);
+                let (t, mask) = kernels.entries(node, boxes, limit, limit);
                 let leaves = mask & node.leaf_lanes();
                 let mut each = leaves;
                 while each != 0 {
@@ -422,8 +440,8 @@ impl Bvh {
                             node.child[lane] as usize,
                             count,
                             ray,
-                            &ray4,
-                            &mut nearest,
+                            ray4,
+                            nearest,
                         );
                     }
                 }
@@ -483,7 +501,6 @@ impl Bvh {
                 }
             }
         });
-        nearest.best
     }
 
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
@@ -734,7 +751,7 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let (_, mut mask) = kernels.entries(node, &boxes, t_max, f32::INFINITY);
+                let mut mask = kernels.entered(node, &boxes, t_max);
                 let mut next = None;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;

@@ -2,6 +2,15 @@
 
 use crate::geometry::Hit;
 
+/// How far past the best distance found the search still looks (as a factor): the
+/// leaves whose boxes the ray enters up to there are tested too. A primitive hit at
+/// exactly the best distance lies in its box, but the box's computed entry may come
+/// out a few units in the last place beyond the triangle test's computed distance;
+/// without the slack such a leaf was skipped or tested depending on the order the
+/// traversal met the leaves in, and single rays and packets could report different
+/// primitives of a tie. 2^-20 is 16 units in the last place.
+const TIE_SLACK: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
+
 /// The nearest hit found so far. Ties in distance go to the lowest primitive index,
 /// as in a scan of the primitives in order, so the answer does not depend on the
 /// order leaves are met in (single rays, packets and image regions all agree).
@@ -10,8 +19,9 @@ pub struct Nearest {
     /// The hit and its primitive index.
     pub best: Option<(Hit, u32)>,
     /// The bound to pass to an exclusive test (`t < limit`): the query's `t_max` at
-    /// first, then the next float above the best distance, so that an equally near
-    /// hit still comes to [`Nearest::offer`].
+    /// first, then the best distance stretched by [`TIE_SLACK`] (at least the next
+    /// float above it, never above the previous limit), so that an equally near hit
+    /// still comes to [`Nearest::offer`], which turns away the farther ones.
     pub limit: f32,
 }
 
@@ -34,7 +44,7 @@ impl Nearest {
                 return;
             }
         }
-        self.limit = hit.t.next_up();
+        self.limit = (hit.t * TIE_SLACK).max(hit.t.next_up()).min(self.limit);
         self.best = Some((hit, prim));
     }
 }

@@ -571,3 +571,90 @@ fn a_ray_in_a_box_face_still_finds_its_primitive() {
         assert_eq!(out[0], hit);
     }
 }
+
+/// Rays aimed exactly at the vertices and edge midpoints of a bumpy, tilted mesh of
+/// 4 608 triangles, from scattered origins (single rays) and from one eye along the
+/// rows (packets): where neighbouring triangles meet, the hit lies on the boundary of
+/// the leaf boxes, whose computed entry and exit may cross by a rounding (a miss
+/// through the mesh unless exits are stretched, `wide::FAR_SCALE`) or land a few
+/// units in the last place beyond the triangle test's distance (the lower index of a
+/// tie skipped unless the search looks a little further, `nearest::TIE_SLACK`). The
+/// answer must be the scan's, ties included, and occlusion must see every hit.
+#[test]
+fn rays_through_shared_edges_and_vertices_find_the_scans_hit() {
+    let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
+    let n = 48;
+    let heights: Vec<f32> = (0..(n + 1) * (n + 1)).map(|_| rnd() * 0.7).collect();
+    let vertex = |i: usize, j: usize| {
+        let (x, y, z) = (i as f32 * 0.37, j as f32 * 0.41, heights[i * (n + 1) + j]);
+        Vec3::new(
+            x * 0.8 + z * 0.6,
+            y * 0.9 - z * 0.3 + x * 0.1,
+            z * 0.7 - x * 0.35 + y * 0.2,
+        )
+    };
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b, c, d) = (
+                vertex(i, j),
+                vertex(i + 1, j),
+                vertex(i, j + 1),
+                vertex(i + 1, j + 1),
+            );
+            tris.push([a, b, c]);
+            tris.push([b, d, c]);
+        }
+    }
+    let bvh = bvh_of(&scene_with(&[], &tris));
+    let target = |rnd: &mut dyn FnMut() -> f32, i: usize, j: usize| {
+        if rnd() < 0.5 {
+            vertex(i, j)
+        } else {
+            let (a, b) = (vertex(i, j), vertex(i + 1, j));
+            a + (b - a) * 0.5
+        }
+    };
+    let mut rays = Vec::new();
+    for _ in 0..20_000 {
+        let (i, j) = ((rnd() * n as f32) as usize, (rnd() * n as f32) as usize);
+        let o = Vec3::new(rnd() * 30.0 - 5.0, rnd() * 30.0 - 5.0, 25.0 + rnd() * 10.0);
+        rays.push(Ray::new(o, (target(&mut rnd, i, j) - o).normalize()));
+    }
+    let eye = Vec3::new(7.0, 9.0, 30.0);
+    let rows: Vec<Ray> = (0..n * n)
+        .map(|k| Ray::new(eye, (target(&mut rnd, k / n, k % n) - eye).normalize()))
+        .collect();
+    let mut ties = 0;
+    let mut check = |r: &Ray, got: Option<(Hit, u32)>| {
+        let scan = bvh.closest_hit_linear(r, f32::INFINITY);
+        assert_eq!(got, scan, "ray from {:?} along {:?}", r.origin, r.dir);
+        assert_eq!(bvh.occluded(r, f32::INFINITY), scan.is_some());
+        if let Some((hit, p)) = scan {
+            let data = bvh.data();
+            let tie = |q: u32| {
+                q != p
+                    && bvh
+                        .primitive(q)
+                        .intersect(r, f32::INFINITY, data)
+                        .is_some_and(|h| h.t == hit.t)
+            };
+            ties += usize::from((0..tris.len() as u32).any(tie));
+        }
+    };
+    for r in &rays {
+        check(r, bvh.closest_hit(r, f32::INFINITY));
+    }
+    let mut out = [None; super::PACKET];
+    for packet in rows.chunks(super::PACKET) {
+        bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
+        for (r, &got) in packet.iter().zip(&out) {
+            check(r, got);
+        }
+    }
+    // About one ray in ten meets two triangles at the same distance.
+    assert!(
+        ties > 1_000,
+        "{ties} ties: the rays should test the rule for ties"
+    );
+}

@@ -46,6 +46,15 @@ pub(super) const EMPTY: Node8 = Node8 {
     count: [0; WIDTH],
 };
 
+/// The factor a box's computed exit distance is stretched by before it is compared
+/// with the entry, so that rounding never closes a box the ray enters. The computed
+/// entry and exit each lie within three roundings of the exact ones, and a ray
+/// through a box's edge or corner (where the two are equal, as on the shared edges
+/// of a mesh whose triangles bound the boxes) could otherwise miss the box, and the
+/// triangle in it: a hole in the mesh (Ize 2013, "Robust BVH ray traversal"; 2^-20
+/// is 16 units in the last place, above the 6 needed).
+pub(super) const FAR_SCALE: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
+
 /// A ray prepared for the wide slab test.
 #[derive(Clone, Copy)]
 pub struct RayBoxes {
@@ -114,7 +123,7 @@ impl Node8 {
 
     /// Entry distance of `ray` into each lane's box within `[0, t_max]`, and a mask
     /// with bit `i` set when lane `i` is entered before `t_limit` (misses and empty
-    /// lanes have no bit).
+    /// lanes have no bit; the exit is stretched by [`FAR_SCALE`]).
     #[inline(always)]
     pub fn entries(&self, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         let mut near = f32x8::ZERO;
@@ -127,8 +136,27 @@ impl Node8 {
             near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
             far = ((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]).fast_min(far);
         }
-        let hit = near.simd_le(far) & near.simd_lt(f32x8::splat(t_limit));
+        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE)) & near.simd_lt(f32x8::splat(t_limit));
         (near.to_array(), hit.to_bitmask())
+    }
+
+    /// The lanes whose boxes `ray` enters within `[0, t_max]`, as bits: the test of
+    /// [`Node8::entries`] (with `t_limit` infinite) for queries that need no
+    /// distances, with the exit stretched by [`FAR_SCALE`] plane by plane rather
+    /// than at the end (the same guarantee), which keeps the multiplication off the
+    /// test's critical path: occlusion ran 6–11 % faster
+    /// so than with [`Node8::entries`]' one multiplication at the end, while closest
+    /// hit, which keeps more values in registers, ran up to 13 % slower so.
+    #[inline(always)]
+    pub fn entered(&self, r: &RayBoxes, t_max: f32) -> u32 {
+        let mut near = f32x8::ZERO;
+        let mut far = f32x8::splat(t_max);
+        for axis in 0..3 {
+            let (lo, hi) = r.planes(self, axis);
+            near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
+            far = ((f32x8::from(*hi) - r.origin[axis]) * (r.inv[axis] * FAR_SCALE)).fast_min(far);
+        }
+        (near.simd_le(far) & near.simd_lt(f32x8::splat(f32::INFINITY))).to_bitmask()
     }
 }
 
@@ -139,6 +167,8 @@ impl Node8 {
 pub trait Kernels: Copy {
     /// As [`Node8::entries`].
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
+    /// As [`Node8::entered`].
+    fn entered(self, node: &Node8, r: &RayBoxes, t_max: f32) -> u32;
     /// As `Tri4::hits8` (one triangle against eight rays).
     fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8;
     /// As `ray8::pair_hits` (two blocks of triangles against one ray).
@@ -153,6 +183,11 @@ impl Kernels for Portable {
     #[inline(always)]
     fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
         node.entries(r, t_max, t_limit)
+    }
+
+    #[inline(always)]
+    fn entered(self, node: &Node8, r: &RayBoxes, t_max: f32) -> u32 {
+        node.entered(r, t_max)
     }
 
     #[inline(always)]
