@@ -79,9 +79,13 @@ if [ -x "$py" ]; then
         # then equal Embree's).
         if [ "$name" = mount_very_high ]; then grep -v '^s ' "$shared/scenes/$s.nff" >"$tmp/mount_tris.nff"; fi
         # The two programs alternate, run by run, so that the host's load falls on both.
-        e=""; declare -A n=() t=()
+        # Embree runs twice: with its default scene flags (NONE) and with
+        # RTC_SCENE_FLAG_ROBUST, the counterpart of nffrt's box test, whose exits are
+        # stretched against rounding (`accel::wide::FAR_SCALE`).
+        e=""; er=""; declare -A n=() t=()
         for _ in $(seq "$runs"); do
             e+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null)$'\n'
+            er+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 --robust "${extra[@]}" 2>/dev/null)$'\n'
             for set in primary random; do
                 n[$set]+=$("$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1)$'\n'
                 if [ "$name" = mount_very_high ]; then
@@ -92,6 +96,8 @@ if [ -x "$py" ]; then
         for set in primary random; do
             row "$name" "$set" "$e" "${n[$set]}"
             if [ "$name" = mount_very_high ]; then row "  triangles only" "$set" "$e" "${t[$set]}"; fi
+            # Against robust Embree, on the same geometry (mount: triangles only).
+            if [ "$name" = mount_very_high ]; then row "  Embree robust" "$set" "$er" "${t[$set]}"; else row "  Embree robust" "$set" "$er" "${n[$set]}"; fi
         done
         unset n t
     done
