@@ -230,7 +230,8 @@ fn moller_trumbore8(
 }
 
 /// The entry and exit distances of `r` for `node`'s eight boxes within `[0, t_max]`,
-/// the far planes divided with `r.inv` times `exit_scale` (see [`entered_avx`]).
+/// the distances to the far planes computed with `r.inv` times `exit_scale` (see
+/// [`entered_avx`]).
 #[target_feature(enable = "avx")]
 #[inline]
 fn slabs_avx(node: &Node8, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (__m256, __m256) {

@@ -647,8 +647,9 @@ fn rays_through_shared_edges_and_vertices_find_the_scans_hit() {
     }
     let mut out = [None; super::PACKET];
     for packet in rows.chunks(super::PACKET) {
-        bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
-        for (r, &got) in packet.iter().zip(&out) {
+        let out = &mut out[..packet.len()];
+        bvh.closest_hit_packet(packet, f32::INFINITY, out);
+        for (r, &got) in packet.iter().zip(out.iter()) {
             check(r, got);
         }
     }

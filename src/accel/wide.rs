@@ -144,9 +144,9 @@ impl Node8 {
     /// [`Node8::entries`] (with `t_limit` infinite) for queries that need no
     /// distances, with the exit stretched by [`FAR_SCALE`] plane by plane rather
     /// than at the end (the same guarantee), which keeps the multiplication off the
-    /// test's critical path: occlusion ran 6–11 % faster
-    /// so than with [`Node8::entries`]' one multiplication at the end, while closest
-    /// hit, which keeps more values in registers, ran up to 13 % slower so.
+    /// test's critical path: occlusion ran 6–11 % faster so than with
+    /// [`Node8::entries`]' one multiplication at the end, while closest hit, which
+    /// keeps more values in registers, ran up to 13 % slower so.
     #[inline(always)]
     pub fn entered(&self, r: &RayBoxes, t_max: f32) -> u32 {
         let mut near = f32x8::ZERO;
