@@ -89,9 +89,9 @@ fn occluder_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<u32> {
 
 impl Kernels for Avx {
     #[inline(always)]
-    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
         // SAFETY: `self` proves the CPU has AVX.
-        unsafe { entries_avx(node, r, t_max, t_limit) }
+        unsafe { entries_avx(node, r, t_max) }
     }
 
     #[inline(always)]
@@ -254,13 +254,10 @@ fn slabs_avx(node: &Node8, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (__m256
 /// `-0.0` against `0.0`, or a NaN `t`, both return the second one, as the SSE
 /// version does).
 #[target_feature(enable = "avx")]
-fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
     // (A scale of one multiplies by nothing: `x * 1.0 == x` for every float.)
     let (near, far) = slabs_avx(node, r, t_max, 1.0);
-    let hit = _mm256_and_ps(
-        _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(FAR_SCALE))),
-        _mm256_cmp_ps::<_CMP_LT_OQ>(near, _mm256_set1_ps(t_limit)),
-    );
+    let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(FAR_SCALE)));
     (store8(near), _mm256_movemask_ps(hit) as u32)
 }
 
@@ -268,11 +265,7 @@ fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; W
 #[target_feature(enable = "avx")]
 fn entered_avx(node: &Node8, r: &RayBoxes, t_max: f32) -> u32 {
     let (near, far) = slabs_avx(node, r, t_max, FAR_SCALE);
-    let hit = _mm256_and_ps(
-        _mm256_cmp_ps::<_CMP_LE_OQ>(near, far),
-        _mm256_cmp_ps::<_CMP_LT_OQ>(near, _mm256_set1_ps(f32::INFINITY)),
-    );
-    _mm256_movemask_ps(hit) as u32
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, far)) as u32
 }
 
 #[cfg(test)]
@@ -289,11 +282,8 @@ mod tests {
             eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
-        let mut node = Node8 {
-            bounds: [[[f32::INFINITY; WIDTH]; 3]; 2],
-            child: [u32::MAX; WIDTH],
-            count: [0; WIDTH],
-        };
+        // Seven boxes and an empty lane.
+        let mut node = crate::accel::wide::EMPTY;
         let boxes = [
             ([0.0, 0.0, 4.0], [1.0, 1.0, 5.0]),
             ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]),
@@ -315,10 +305,11 @@ mod tests {
             let origin = Vec3::new(a.sin() * 2.0, a.cos() * 2.0, (i % 7) as f32 - 3.0);
             let dir = Vec3::new((a * 1.3).cos(), (a * 0.7).sin(), 0.5 - (i % 3) as f32 * 0.5);
             let r = RayBoxes::new(&Ray::new(origin, dir.normalize()));
-            for (t_max, t_limit) in [(f32::INFINITY, f32::INFINITY), (4.5, 4.5), (10.0, 2.0)] {
-                let (pt, pm) = Portable.entries(&node, &r, t_max, t_limit);
-                let (at, am) = avx.entries(&node, &r, t_max, t_limit);
+            for t_max in [f32::INFINITY, 10.0, 4.5, 2.0] {
+                let (pt, pm) = Portable.entries(&node, &r, t_max);
+                let (at, am) = avx.entries(&node, &r, t_max);
                 assert_eq!(pm, am, "ray {i}");
+                assert_eq!(pm & 1 << 7, 0, "ray {i} entered the empty lane");
                 assert_eq!(pt.map(f32::to_bits), at.map(f32::to_bits), "ray {i}");
                 assert_eq!(
                     Portable.entered(&node, &r, t_max),

@@ -427,7 +427,7 @@ impl Bvh {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
                 let limit = nearest.limit;
-                let (t, mask) = kernels.entries(node, boxes, limit, limit);
+                let (t, mask) = kernels.entries(node, boxes, limit);
                 let leaves = mask & node.leaf_lanes();
                 let mut each = leaves;
                 while each != 0 {

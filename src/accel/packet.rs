@@ -232,7 +232,7 @@ impl Bvh {
                     let k = left.trailing_zeros() as usize;
                     left &= left - 1;
                     let limit = limits[k];
-                    let (t, mut mask) = kernels.entries(node, &boxes[k], limit, limit);
+                    let (t, mut mask) = kernels.entries(node, &boxes[k], limit);
                     while mask != 0 {
                         let lane = mask.trailing_zeros() as usize;
                         mask &= mask - 1;

@@ -659,3 +659,41 @@ fn rays_through_shared_edges_and_vertices_find_the_scans_hit() {
         "{ties} ties: the rays should test the rule for ties"
     );
 }
+
+/// An empty lane (`wide::EMPTY`'s inside-out box) is missed by every ray, whatever
+/// its `t_max`, including rays along the axes (infinite inverse directions) and rays
+/// starting at the origin; a lane in use beside it is still entered.
+#[test]
+fn empty_lanes_are_never_entered() {
+    use super::wide::{Kernels, Portable, RayBoxes, EMPTY, MAX, MIN};
+    let mut node = EMPTY;
+    for axis in 0..3 {
+        node.bounds[MIN][axis][0] = -1.0;
+        node.bounds[MAX][axis][0] = 1.0;
+    }
+    let mut rnd = uniform(0x5eed);
+    let mut dirs: Vec<Vec3> = (0..500)
+        .map(|_| Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize())
+        .collect();
+    for axis in 0..3 {
+        for sign in [1.0, -1.0] {
+            let mut d = [0.0f32; 3];
+            d[axis] = sign;
+            dirs.push(Vec3::from_array(d));
+        }
+    }
+    for (i, d) in dirs.iter().enumerate() {
+        for origin in [Vec3::ZERO, Vec3::new(0.3, -0.2, 0.1), *d * -5.0] {
+            let r = RayBoxes::new(&Ray::new(origin, *d));
+            for t_max in [f32::INFINITY, f32::MAX, 100.0, 0.5] {
+                let (_, mask) = Portable.entries(&node, &r, t_max);
+                let entered = Portable.entered(&node, &r, t_max);
+                assert_eq!(mask & !1, 0, "ray {i} from {origin:?}, t_max {t_max}");
+                assert_eq!(entered & !1, 0, "ray {i} from {origin:?}, t_max {t_max}");
+                if t_max > 10.0 {
+                    assert_eq!((mask, entered), (1, 1), "ray {i} from {origin:?}");
+                }
+            }
+        }
+    }
+}

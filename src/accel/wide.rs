@@ -18,7 +18,8 @@ use crate::math::{Aabb, Ray, Vec3, TINY_DIR};
 pub const WIDTH: usize = 8;
 
 /// A node with up to eight children. Lane `i` is empty when `count[i] == 0` and
-/// `child[i] == u32::MAX` (its box lies at +infinity, so the slab test misses it), a
+/// `child[i] == u32::MAX` (its box is inside out, lower corner +∞ and upper −∞, so
+/// every slab test misses it, whatever its `t_max`), a
 /// leaf with primitives `child[i] .. child[i] + count[i]` when `count[i] > 0`, and an
 /// interior node `child[i]` otherwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,7 +42,7 @@ pub const MIN: usize = 0;
 pub const MAX: usize = 1;
 
 pub(super) const EMPTY: Node8 = Node8 {
-    bounds: [[[f32::INFINITY; WIDTH]; 3]; 2],
+    bounds: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]],
     child: [u32::MAX; WIDTH],
     count: [0; WIDTH],
 };
@@ -121,11 +122,13 @@ impl Node8 {
         !u32x8::from(self.count).simd_eq(u32x8::ZERO).to_bitmask() & ((1 << WIDTH) - 1)
     }
 
-    /// Entry distance of `ray` into each lane's box within `[0, t_max]`, and a mask
-    /// with bit `i` set when lane `i` is entered before `t_limit` (misses and empty
-    /// lanes have no bit; the exit is stretched by [`FAR_SCALE`]).
+    /// Entry distance of `ray` into each lane's box, and a mask with bit `i` set when
+    /// the ray meets lane `i`'s box within `[0, t_max]` (misses and empty lanes have
+    /// no bit). The exit, `t_max` included, is stretched by [`FAR_SCALE`], so a box
+    /// entered that little past `t_max` counts too: the callers cull by distance
+    /// again before they test a leaf or visit a child.
     #[inline(always)]
-    pub fn entries(&self, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
+    pub fn entries(&self, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
         let mut near = f32x8::ZERO;
         let mut far = f32x8::splat(t_max);
         for axis in 0..3 {
@@ -136,13 +139,12 @@ impl Node8 {
             near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
             far = ((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]).fast_min(far);
         }
-        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE)) & near.simd_lt(f32x8::splat(t_limit));
+        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE));
         (near.to_array(), hit.to_bitmask())
     }
 
     /// The lanes whose boxes `ray` enters within `[0, t_max]`, as bits: the test of
-    /// [`Node8::entries`] (with `t_limit` infinite) for queries that need no
-    /// distances, with the exit stretched by [`FAR_SCALE`] plane by plane rather
+    /// [`Node8::entries`] for queries that need no distances, with the exit stretched by [`FAR_SCALE`] plane by plane rather
     /// than at the end (the same guarantee), which keeps the multiplication off the
     /// test's critical path: occlusion ran 6–11 % faster so than with
     /// [`Node8::entries`]' one multiplication at the end, while closest hit, which
@@ -156,7 +158,7 @@ impl Node8 {
             near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
             far = ((f32x8::from(*hi) - r.origin[axis]) * (r.inv[axis] * FAR_SCALE)).fast_min(far);
         }
-        (near.simd_le(far) & near.simd_lt(f32x8::splat(f32::INFINITY))).to_bitmask()
+        near.simd_le(far).to_bitmask()
     }
 }
 
@@ -166,7 +168,7 @@ impl Node8 {
 /// each instruction set gets its own copy.
 pub trait Kernels: Copy {
     /// As [`Node8::entries`].
-    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32);
+    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32);
     /// As [`Node8::entered`].
     fn entered(self, node: &Node8, r: &RayBoxes, t_max: f32) -> u32;
     /// As `Tri4::hits8` (one triangle against eight rays).
@@ -181,8 +183,8 @@ pub struct Portable;
 
 impl Kernels for Portable {
     #[inline(always)]
-    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32, t_limit: f32) -> ([f32; WIDTH], u32) {
-        node.entries(r, t_max, t_limit)
+    fn entries(self, node: &Node8, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
+        node.entries(r, t_max)
     }
 
     #[inline(always)]
