@@ -229,9 +229,8 @@ fn moller_trumbore8(
     (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
 }
 
-/// The entry and exit distances of `r` for `node`'s eight boxes within `[0, t_max]`,
-/// the distances to the far planes computed with `r.inv` times `exit_scale` (see
-/// [`entered_avx`]).
+/// `Node8::slabs` in AVX registers: the entry and exit distances of `r` for
+/// `node`'s eight boxes, the far planes' computed with `r.inv` times `exit_scale`.
 #[target_feature(enable = "avx")]
 #[inline]
 fn slabs_avx(node: &Node8, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (__m256, __m256) {
@@ -255,7 +254,6 @@ fn slabs_avx(node: &Node8, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (__m256
 /// version does).
 #[target_feature(enable = "avx")]
 fn entries_avx(node: &Node8, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
-    // (A scale of one multiplies by nothing: `x * 1.0 == x` for every float.)
     let (near, far) = slabs_avx(node, r, t_max, 1.0);
     let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(FAR_SCALE)));
     (store8(near), _mm256_movemask_ps(hit) as u32)

@@ -122,13 +122,12 @@ impl Node8 {
         !u32x8::from(self.count).simd_eq(u32x8::ZERO).to_bitmask() & ((1 << WIDTH) - 1)
     }
 
-    /// Entry distance of `ray` into each lane's box, and a mask with bit `i` set when
-    /// the ray meets lane `i`'s box within `[0, t_max]` (misses and empty lanes have
-    /// no bit). The exit, `t_max` included, is stretched by [`FAR_SCALE`], so a box
-    /// entered that little past `t_max` counts too: the callers cull by distance
-    /// again before they test a leaf or visit a child.
+    /// The entry and exit distances of `r` for the eight boxes within `[0, t_max]`,
+    /// the distances to the far planes computed with `r.inv` times `exit_scale` (one
+    /// for [`Node8::entries`], which multiplies nothing: `x * 1.0 == x` for every
+    /// float; [`FAR_SCALE`] for [`Node8::entered`]).
     #[inline(always)]
-    pub fn entries(&self, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
+    fn slabs(&self, r: &RayBoxes, t_max: f32, exit_scale: f32) -> (f32x8, f32x8) {
         let mut near = f32x8::ZERO;
         let mut far = f32x8::splat(t_max);
         for axis in 0..3 {
@@ -137,27 +136,33 @@ impl Node8 {
             // the plane, see `RayBoxes::inv`) leaves `b`, the bound so far.
             let (lo, hi) = r.planes(self, axis);
             near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
-            far = ((f32x8::from(*hi) - r.origin[axis]) * r.inv[axis]).fast_min(far);
+            far = ((f32x8::from(*hi) - r.origin[axis]) * (r.inv[axis] * exit_scale)).fast_min(far);
         }
+        (near, far)
+    }
+
+    /// Entry distance of `ray` into each lane's box, and a mask with bit `i` set when
+    /// the ray meets lane `i`'s box within `[0, t_max]` (misses and empty lanes have
+    /// no bit). The exit, `t_max` included, is stretched by [`FAR_SCALE`], so a box
+    /// entered that little past `t_max` counts too: the callers cull by distance
+    /// again before they test a leaf or visit a child.
+    #[inline(always)]
+    pub fn entries(&self, r: &RayBoxes, t_max: f32) -> ([f32; WIDTH], u32) {
+        let (near, far) = self.slabs(r, t_max, 1.0);
         let hit = near.simd_le(far * f32x8::splat(FAR_SCALE));
         (near.to_array(), hit.to_bitmask())
     }
 
     /// The lanes whose boxes `ray` enters within `[0, t_max]`, as bits: the test of
-    /// [`Node8::entries`] for queries that need no distances, with the exit stretched by [`FAR_SCALE`] plane by plane rather
-    /// than at the end (the same guarantee), which keeps the multiplication off the
-    /// test's critical path: occlusion ran 6–11 % faster so than with
-    /// [`Node8::entries`]' one multiplication at the end, while closest hit, which
-    /// keeps more values in registers, ran up to 13 % slower so.
+    /// [`Node8::entries`] for queries that need no distances, with the exit
+    /// stretched by [`FAR_SCALE`] plane by plane rather than at the end (the same
+    /// guarantee), which keeps the multiplication off the test's critical path:
+    /// occlusion ran 6–11 % faster so than with [`Node8::entries`]' one
+    /// multiplication at the end, while closest hit, which keeps more values in
+    /// registers, ran up to 13 % slower so.
     #[inline(always)]
     pub fn entered(&self, r: &RayBoxes, t_max: f32) -> u32 {
-        let mut near = f32x8::ZERO;
-        let mut far = f32x8::splat(t_max);
-        for axis in 0..3 {
-            let (lo, hi) = r.planes(self, axis);
-            near = ((f32x8::from(*lo) - r.origin[axis]) * r.inv[axis]).fast_max(near);
-            far = ((f32x8::from(*hi) - r.origin[axis]) * (r.inv[axis] * FAR_SCALE)).fast_min(far);
-        }
+        let (near, far) = self.slabs(r, t_max, FAR_SCALE);
         near.simd_le(far).to_bitmask()
     }
 }
