@@ -10,6 +10,7 @@ use super::cone4::Cone4;
 use super::nearest::Nearest;
 use super::node::BvhNode;
 use super::sphere4::Sphere4;
+use super::split::{self, Copies};
 use super::tri4::{nearest_lane, Block, Ray4, Tri4, LANES};
 use super::wide::{Kernels, Node8, Portable, RayBoxes, WIDTH};
 use crate::geometry::{Geometry, GeometryData, Hit, Primitive, Shape};
@@ -169,7 +170,7 @@ struct Blocks {
 /// blocks (marked with [`SPHERE4_LEAF`]) and every one made only of packable cones
 /// into [`Cone4`] blocks (marked with [`CONE4_LEAF`]); other leaves keep pointing at
 /// `primitives`.
-fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
+fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive], canonical: Option<&[u32]>) -> Blocks {
     let mut blocks = Blocks::default();
     for node in wide.iter_mut() {
         for lane in 0..WIDTH {
@@ -197,15 +198,15 @@ fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
             let (range, mark) = match kind {
                 Pack::Alone => continue,
                 Pack::Triangle => (
-                    pack_into(leaf, first, triangle, Tri4::new, &mut blocks.tri4),
+                    pack_into(leaf, first, canonical, triangle, Tri4::new, &mut blocks.tri4),
                     TRI4_LEAF,
                 ),
                 Pack::Sphere => (
-                    pack_into(leaf, first, sphere, Sphere4::new, &mut blocks.sphere4),
+                    pack_into(leaf, first, canonical, sphere, Sphere4::new, &mut blocks.sphere4),
                     SPHERE4_LEAF,
                 ),
                 Pack::Cone => (
-                    pack_into(leaf, first, cone, Cone4::new, &mut blocks.cone4),
+                    pack_into(leaf, first, canonical, cone, Cone4::new, &mut blocks.cone4),
                     CONE4_LEAF,
                 ),
             };
@@ -217,11 +218,13 @@ fn pack_leaves(wide: &mut [Node8], primitives: &[Primitive]) -> Blocks {
 }
 
 /// Appends to `out` the blocks (`make`, [`LANES`] shapes at most) of `leaf`, whose
-/// primitives are `first, first + 1, …` and all have the shape `shape` picks out;
-/// returns the range of the new blocks.
+/// primitives are `first, first + 1, …` (reported as `canonical` maps them, if
+/// given) and all have the shape `shape` picks out; returns the range of the new
+/// blocks.
 fn pack_into<T, B>(
     leaf: &[Primitive],
     first: usize,
+    canonical: Option<&[u32]>,
     shape: impl Fn(&Shape) -> Option<T>,
     make: impl Fn(&[(T, u32)]) -> B,
     out: &mut Vec<B>,
@@ -232,7 +235,8 @@ fn pack_into<T, B>(
         lanes.clear();
         for (k, p) in chunk.iter().enumerate() {
             if let Some(t) = shape(&p.shape) {
-                lanes.push((t, (first + chunk_index * LANES + k) as u32));
+                let index = first + chunk_index * LANES + k;
+                lanes.push((t, canonical.map_or(index as u32, |c| c[index])));
             }
         }
         out.push(make(&lanes));
@@ -283,6 +287,9 @@ pub struct Bvh {
     /// Bounded primitives in leaf order, then the unbounded ones.
     pub(super) primitives: Vec<Primitive>,
     pub(super) bounded: usize,
+    /// With split cones (`accel::split`), which leaf-order entries are copies of one
+    /// primitive; `None` when every primitive is in the tree once.
+    pub(super) copies: Option<Copies>,
     pub(super) data: GeometryData,
     pub(super) depth: u32,
     /// The kinds of leaf the queries look for (see [`leaf_kinds`]): each set they
@@ -319,11 +326,22 @@ impl Bvh {
         // Triangles and spheres are intersected several at a time (in blocks), which
         // the SAH knows.
         let packs: Vec<Pack> = bounded.par_iter().map(pack_of).collect();
-        let built = build::build(&bounds, &packs);
+        // Long oblique cones enter the tree as several pieces (`accel::split`).
+        let refs = split::split_long_cones(&bounded, &bounds, &packs);
+        let built = match &refs {
+            Some(r) => build::build(&r.bounds, &r.packs),
+            None => build::build(&bounds, &packs),
+        };
         drop(bounds);
-        let mut ordered: Vec<Primitive> = built.order.par_iter().map(|&i| bounded[i as usize]).collect();
+        let copies = refs.as_ref().map(|r| Copies::new(r, &built.order, bounded.len()));
+        let order: Vec<u32> = match &refs {
+            Some(r) => built.order.iter().map(|&i| r.primitive[i as usize]).collect(),
+            None => built.order,
+        };
+        drop(refs);
+        let mut ordered: Vec<Primitive> = order.par_iter().map(|&i| bounded[i as usize]).collect();
         drop(bounded);
-        let leaf_packs: Vec<Pack> = built.order.par_iter().map(|&i| packs[i as usize]).collect();
+        let leaf_packs: Vec<Pack> = order.par_iter().map(|&i| packs[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
         let mut wide = if n_bounded > 0 {
@@ -331,7 +349,8 @@ impl Bvh {
         } else {
             Vec::new()
         };
-        let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered);
+        let canonical = copies.as_ref().map(|c| c.canonical.as_slice());
+        let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered, canonical);
         let kinds = leaf_kinds::copy_for(&wide);
         Bvh {
             nodes: built.nodes,
@@ -341,11 +360,22 @@ impl Bvh {
             cone4,
             primitives: ordered,
             bounded: n_bounded,
+            copies,
             data,
             depth: built.depth,
             kinds,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
+        }
+    }
+
+    /// The index the queries report for leaf-order entry `index`: the first copy's
+    /// when the entry is a copy of a split cone (`accel::split`).
+    #[inline(always)]
+    pub(super) fn canonical(&self, index: usize) -> u32 {
+        match &self.copies {
+            Some(c) => c.canonical[index],
+            None => index as u32,
         }
     }
 
@@ -355,7 +385,15 @@ impl Bvh {
         &self.primitives[index as usize]
     }
 
-    /// All primitives: bounded ones in leaf order, then unbounded ones.
+    /// The number of distinct primitives (a split cone counts once, though
+    /// [`Bvh::primitives`] holds it once per piece).
+    pub fn primitive_count(&self) -> usize {
+        let copies = self.copies.as_ref().map_or(0, |c| self.bounded - c.distinct);
+        self.primitives.len() - copies
+    }
+
+    /// All primitives: bounded ones in leaf order (a split cone once per piece, see
+    /// `accel::split`), then unbounded ones.
     pub fn primitives(&self) -> &[Primitive] {
         &self.primitives
     }
@@ -537,7 +575,7 @@ impl Bvh {
         count!(PRIMS, count);
         for (k, p) in self.primitives[first..first + count].iter().enumerate() {
             if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
-                nearest.offer(h, (first + k) as u32);
+                nearest.offer(h, self.canonical(first + k));
             }
         }
     }

@@ -3,10 +3,12 @@
 
 use super::build::{self, Packs};
 use super::bvh::{marked, pack_of, Bvh, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
+use super::split::Piece;
 use super::tri4::Block;
 use super::wide::WIDTH;
 use crate::geometry::Hit;
-use crate::math::{Ray, Vec3};
+use crate::geometry::Shape;
+use crate::math::{Aabb, Ray, Vec3};
 
 /// Depth limit of the binary tree (the builder stays well below it).
 const MAX_DEPTH: usize = 64;
@@ -33,6 +35,9 @@ pub struct BvhStats {
     pub sah_cost: f64,
     /// Bounded primitives in the tree.
     pub primitives: usize,
+    /// Leaf entries: the bounded primitives, plus one per extra piece of a split cone
+    /// (`accel::split`).
+    pub references: usize,
     /// Unbounded primitives tested beside it.
     pub unbounded: usize,
 }
@@ -52,10 +57,10 @@ impl Bvh {
     }
 
     /// Checks the structural invariants, of the binary tree and of the wide one the
-    /// queries use: every bounded primitive in exactly one leaf (of each), every child
-    /// box inside its parent (binary), every primitive box inside its leaf or leaf
-    /// lane, depth within the traversal stack. Returns a description of the first
-    /// violation.
+    /// queries use: every bounded primitive in exactly one leaf (of each; a split
+    /// cone once per piece), every child box inside its parent (binary), every
+    /// primitive box (or piece box) inside its leaf or leaf lane, depth within the
+    /// traversal stack. Returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
         if self.depth as usize >= MAX_DEPTH {
             return Err(format!("depth {} exceeds the stack", self.depth));
@@ -67,11 +72,69 @@ impl Bvh {
         if let Some(i) = seen.iter().position(|&c| c != 1) {
             return Err(format!("primitive {i} is reached {} times", seen[i]));
         }
+        // The wide leaves' blocks name each copy by its first one: count per name.
+        let mut expected = vec![0u8; self.bounded];
+        for i in 0..self.bounded {
+            let c = self.canonical(i) as usize;
+            expected[c] = expected[c].saturating_add(1);
+        }
+        if let Some(copies) = &self.copies {
+            // Each piece of a split cone exactly once (one bit per piece).
+            let mut pieces = vec![0u64; self.bounded];
+            for (i, piece) in copies.piece.iter().enumerate() {
+                let first = copies.canonical[i] as usize;
+                let bit = 1u64 << piece.index;
+                if copies.piece[first].of != piece.of
+                    || usize::from(piece.of) != usize::from(expected[first])
+                    || pieces[first] & bit != 0
+                {
+                    return Err(format!(
+                        "entry {i} is piece {} of {} among {} copies",
+                        piece.index, piece.of, expected[first]
+                    ));
+                }
+                pieces[first] |= bit;
+            }
+        }
         let mut seen = vec![0u8; self.bounded];
         self.validate_wide(&mut seen)?;
-        match seen.iter().position(|&c| c != 1) {
-            Some(i) => Err(format!("primitive {i} is in {} wide leaf lanes", seen[i])),
+        match seen.iter().zip(&expected).position(|(s, e)| s != e) {
+            Some(i) => Err(format!(
+                "primitive {i} is in {} wide leaf lanes, not {}",
+                seen[i], expected[i]
+            )),
             None => Ok(()),
+        }
+    }
+
+    /// The box of the entry named `index` (a first copy, as the wide tree's blocks
+    /// name every copy) that a wide leaf lane with box `lane` holds: for a split cone,
+    /// whichever of its pieces' boxes `lane` contains (the first if none does).
+    fn lane_entry_bounds(&self, index: usize, lane: &Aabb) -> Result<Aabb, String> {
+        let p = &self.primitives[index];
+        match (&self.copies, &p.shape) {
+            (Some(c), Shape::Cone(cone)) if c.piece[index].of > 1 => {
+                let of = c.piece[index].of;
+                let pieces: Vec<Aabb> = (0..of).map(|index| Piece { index, of }.bounds_of(cone)).collect();
+                Ok(pieces
+                    .iter()
+                    .copied()
+                    .find(|b| lane.contains(b))
+                    .unwrap_or(pieces[0]))
+            }
+            _ => p
+                .bounds(&self.data)
+                .ok_or_else(|| "unbounded primitive in a leaf lane".to_string()),
+        }
+    }
+
+    /// The box leaf-order entry `index` is filed under: its primitive's, or that of
+    /// the piece of a split cone it stands for.
+    fn entry_bounds(&self, index: usize) -> Option<Aabb> {
+        let p = &self.primitives[index];
+        match (&self.copies, &p.shape) {
+            (Some(c), Shape::Cone(cone)) if c.piece[index].of > 1 => Some(c.piece[index].bounds_of(cone)),
+            _ => p.bounds(&self.data),
         }
     }
 
@@ -92,13 +155,11 @@ impl Bvh {
                 } else if let Some(b) = marked(&self.cone4, first, count, CONE4_LEAF) {
                     block_prims(b)
                 } else {
-                    (first as u32..(first + count) as u32).collect()
+                    (first..first + count).map(|i| self.canonical(i)).collect()
                 };
                 let b = node.lane_bounds(lane);
                 for p in prims.into_iter().filter(|&p| p != u32::MAX).map(|p| p as usize) {
-                    let pb = self.primitives[p]
-                        .bounds(&self.data)
-                        .ok_or("unbounded primitive in a leaf lane")?;
+                    let pb = self.lane_entry_bounds(p, &b)?;
                     if !b.contains(&pb) {
                         return Err(format!(
                             "primitive {p} sticks out of lane {lane} of wide node {n}"
@@ -117,12 +178,10 @@ impl Bvh {
         if node.is_leaf() {
             let first = node.first as usize;
             let leaf = first..first + node.count as usize;
-            for (i, (p, count)) in self.primitives[leaf.clone()]
-                .iter()
-                .zip(&mut seen[leaf])
-                .enumerate()
-            {
-                let pb = p.bounds(&self.data).ok_or("unbounded primitive in a leaf")?;
+            for (i, count) in seen[leaf].iter_mut().enumerate() {
+                let pb = self
+                    .entry_bounds(first + i)
+                    .ok_or("unbounded primitive in a leaf")?;
                 if !b.contains(&pb) {
                     return Err(format!("primitive {} sticks out of leaf {index}", first + i));
                 }
@@ -152,7 +211,8 @@ impl Bvh {
             max_leaf: 0,
             mean_leaf: 0.0,
             sah_cost: 0.0,
-            primitives: self.bounded,
+            primitives: self.copies.as_ref().map_or(self.bounded, |c| c.distinct),
+            references: self.bounded,
             unbounded: self.primitives.len() - self.bounded,
         };
         if self.bounded == 0 {

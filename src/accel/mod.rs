@@ -16,6 +16,7 @@ mod node;
 mod packet;
 mod ray8;
 mod sphere4;
+mod split;
 mod tri4;
 mod wide;
 

@@ -4,7 +4,7 @@
 use super::bvh::leaf_kinds;
 use super::{Bvh, NO_HINT};
 use crate::geometry::build_geometry;
-use crate::geometry::Hit;
+use crate::geometry::{ConeShape, Hit};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Cone, Material, Polygon, Scene, Sphere};
 use proptest::prelude::*;
@@ -256,8 +256,19 @@ fn deep_trees_agree_with_brute_force() {
         let base = point(20.0);
         cone(base, -0.5, base + point(1.0), -0.3);
     }
+    // Thin ones, most of them filed in pieces (`accel::split`).
+    for _ in 0..100 {
+        let base = point(20.0);
+        cone(base, 0.04, base + point(1.5), 0.04);
+    }
     let bvh = bvh_of(&scene);
     assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+    let (split, whole) = (bvh.stats().references, bvh.stats().primitives);
+    assert!(
+        split >= whole + 50,
+        "only {} cones split in pieces",
+        split - whole
+    );
     let shared = bvh.sphere4.iter().filter(|b| b.prim[1] != u32::MAX).count();
     assert!(
         shared >= 20,
@@ -267,6 +278,69 @@ fn deep_trees_agree_with_brute_force() {
     assert!(shared >= 20, "only {shared} cone blocks hold more than one cone");
     assert_eq!(bvh.kinds, leaf_kinds::ALL);
     assert_agrees_with_brute_force(&bvh, &mut point);
+}
+
+/// Thin cylinders lying across the axes, as in the SPD's rings, are filed in pieces
+/// (`accel::split`); rays aimed at their sides right at the seams between pieces (and
+/// a little to either side) find the hit the scan finds, single and in packets.
+#[test]
+fn rays_at_the_seams_of_split_cones_find_the_scans_hit() {
+    let mut uniform = uniform(0x6a09_e667_f3bc_c908);
+    let mut next = move || uniform() * 2.0 - 1.0;
+    let mut scene = scene_with(&[], &[]);
+    let mut cones = Vec::new();
+    for i in 0..400 {
+        let base = Vec3::new(next() * 20.0, next() * 20.0, next() * 20.0);
+        let dir = Vec3::new(next(), next(), next() * 0.3).normalize();
+        let apex = base + dir * (1.0 + next().abs());
+        let r = 0.05 + 0.03 * next().abs();
+        scene.cones.push(Cone {
+            base,
+            base_radius: r,
+            apex,
+            apex_radius: if i % 3 == 0 { r * 0.5 } else { r },
+            material: 0,
+            line: 1,
+        });
+        cones.push(ConeShape::new(
+            base,
+            r,
+            apex,
+            if i % 3 == 0 { r * 0.5 } else { r },
+        ));
+    }
+    let bvh = bvh_of(&scene);
+    let (split, whole) = (bvh.stats().references, bvh.stats().primitives);
+    assert!(split >= whole + 300, "only {} of 400 cones split", split - whole);
+    let eye = Vec3::new(3.0, -4.0, 60.0);
+    let mut rays = Vec::new();
+    for c in &cones {
+        for s in [0.5, 0.4999, 0.5001, 0.499, 0.501] {
+            let along = c.length * s;
+            let r = c.base_radius + c.slope * along;
+            let centre = c.base + c.axis * along;
+            // The point of the side facing the eye, then a ray from the eye to it.
+            let towards = eye - centre;
+            let side = (towards - c.axis * towards.dot(c.axis)).normalize();
+            let target = centre + side * r;
+            rays.push(Ray::new(eye, (target - eye).normalize()));
+        }
+    }
+    let mut hits = 0;
+    for r in &rays {
+        let fast = bvh.closest_hit(r, f32::INFINITY);
+        assert_eq!(fast, bvh.closest_hit_linear(r, f32::INFINITY));
+        assert_eq!(bvh.occluded(r, f32::INFINITY), fast.is_some());
+        hits += usize::from(fast.is_some());
+    }
+    assert!(hits >= rays.len() * 9 / 10, "{hits} of {} rays hit", rays.len());
+    for packet in rays.chunks(super::PACKET) {
+        let mut out = vec![None; packet.len()];
+        bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
+        for (r, got) in packet.iter().zip(&out) {
+            assert_eq!(*got, bvh.closest_hit(r, f32::INFINITY));
+        }
+    }
 }
 
 /// Scenes of triangles only, and of spheres and triangles apart, deep enough to use

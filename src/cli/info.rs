@@ -154,6 +154,12 @@ fn print_bvh(b: &BvhInfo) {
         s.primitives,
         s.unbounded
     );
+    if s.references != s.primitives {
+        outln!(
+            "  entries     {} (long oblique cones filed once per piece)",
+            s.references
+        );
+    }
     if let (Some(lo), Some(hi)) = (b.bounds_min, b.bounds_max) {
         outln!("  bounds      {lo:?} .. {hi:?}");
     }

@@ -177,7 +177,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         height: opts.height,
         max_depth: opts.max_depth,
         threads,
-        primitives: bvh.primitives().len(),
+        primitives: bvh.primitive_count(),
         parse_s: loaded.parse_s,
         build_s,
         render_s,

@@ -93,6 +93,29 @@ impl ConeShape {
         Aabb::new(self.base - rb, self.base + rb).union(Aabb::new(apex - ra, apex + ra))
     }
 
+    /// Bounding box of the part of the side between the axial distances `from` and
+    /// `to` (`0 ≤ from < to ≤ length`): the union of the boxes of the discs there,
+    /// widened by 2^-16 of its coordinates' magnitude so that it also holds every
+    /// computed hit on that part (the disc centres and radii here, and the hit points
+    /// of [`ConeShape::intersect`], are each a few roundings off the exact ones).
+    pub fn piece_bounds(&self, from: f32, to: f32) -> Aabb {
+        let w = self.axis;
+        let disc = |s: f32| {
+            let r = self.base_radius + self.slope * s;
+            let reach = Vec3::new(
+                r * (1.0 - w.x * w.x).max(0.0).sqrt(),
+                r * (1.0 - w.y * w.y).max(0.0).sqrt(),
+                r * (1.0 - w.z * w.z).max(0.0).sqrt(),
+            );
+            let centre = self.base + w * s;
+            Aabb::new(centre - reach, centre + reach)
+        };
+        let b = disc(from).union(disc(to));
+        let magnitude = b.min.abs().max(b.max.abs()).max(b.max - b.min);
+        let pad = magnitude * (1.0 / 65536.0);
+        Aabb::new(b.min - pad, b.max + pad)
+    }
+
     /// Phase one: the nearest hit with `0 < t < t_max` whose axial coordinate lies in
     /// `[0, length]` (for an inside-only cone, the nearest hit leaving the cone).
     #[inline]
