@@ -240,15 +240,17 @@ impl<'a> Tracer<'a> {
                 }
                 continue;
             }
-            let dist = to_light.length();
-            let l = to_light / dist;
             stats.shadow_rays += 1;
-            let shadow_ray = Ray::new(above, l);
+            // Aimed at the light unnormalized, blockers sought below t = 1: the ray's
+            // reciprocal direction then no longer waits on a square root and a
+            // division (the longest chain in setting up a shadow ray); the
+            // intersection tests do not need unit directions.
+            let shadow_ray = Ray::new(above, to_light);
             let slot = k * HINT_DEPTHS + (depth as usize - 1);
             let blocked = if k < HINT_LIGHTS && (depth as usize) <= HINT_DEPTHS {
-                SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, dist, &hints[slot]))
+                SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, 1.0, &hints[slot]))
             } else {
-                self.bvh.occluded(&shadow_ray, dist)
+                self.bvh.occluded(&shadow_ray, 1.0)
             };
             if blocked {
                 stats.shadow_blocked += 1;
@@ -257,6 +259,7 @@ impl<'a> Tracer<'a> {
                 }
                 continue;
             }
+            let l = to_light / to_light.length();
             let lambert = ns.dot(l).max(0.0);
             let h = (l + view).normalize();
             // A negative exponent would turn a zero cosine into infinity.
