@@ -7,7 +7,9 @@ use super::Vec3;
 pub struct Ray {
     /// Where the ray starts (world space).
     pub origin: Vec3,
-    /// Direction; not necessarily unit length, though the renderer keeps it so.
+    /// Direction; not necessarily unit length (the renderer's eye, reflected and
+    /// refracted rays have unit directions, its shadow rays run to the light, which
+    /// they reach at t = 1).
     pub dir: Vec3,
     /// Component-wise `1 / dir`, for box tests. Always finite: a zero component of
     /// `dir` is replaced by a tiny one of the same sign first, so the slab test never
