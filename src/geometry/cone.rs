@@ -79,18 +79,8 @@ impl ConeShape {
 
     /// Bounding box: the union of the boxes of the two end discs.
     pub fn bounds(&self) -> Aabb {
-        // A disc of radius r and unit normal w reaches r·√(1 − w_i²) along axis i.
-        let w = self.axis;
-        let reach = |r: f32| {
-            Vec3::new(
-                r * (1.0 - w.x * w.x).max(0.0).sqrt(),
-                r * (1.0 - w.y * w.y).max(0.0).sqrt(),
-                r * (1.0 - w.z * w.z).max(0.0).sqrt(),
-            )
-        };
-        let (rb, ra) = (reach(self.base_radius), reach(self.apex_radius()));
-        let apex = self.apex();
-        Aabb::new(self.base - rb, self.base + rb).union(Aabb::new(apex - ra, apex + ra))
+        self.disc_bounds(self.base, self.base_radius)
+            .union(self.disc_bounds(self.apex(), self.apex_radius()))
     }
 
     /// Bounding box of the part of the side between the axial distances `from` and
@@ -99,21 +89,23 @@ impl ConeShape {
     /// computed hit on that part (the disc centres and radii here, and the hit points
     /// of [`ConeShape::intersect`], are each a few roundings off the exact ones).
     pub fn piece_bounds(&self, from: f32, to: f32) -> Aabb {
-        let w = self.axis;
-        let disc = |s: f32| {
-            let r = self.base_radius + self.slope * s;
-            let reach = Vec3::new(
-                r * (1.0 - w.x * w.x).max(0.0).sqrt(),
-                r * (1.0 - w.y * w.y).max(0.0).sqrt(),
-                r * (1.0 - w.z * w.z).max(0.0).sqrt(),
-            );
-            let centre = self.base + w * s;
-            Aabb::new(centre - reach, centre + reach)
-        };
+        let disc = |s: f32| self.disc_bounds(self.base + self.axis * s, self.base_radius + self.slope * s);
         let b = disc(from).union(disc(to));
         let magnitude = b.min.abs().max(b.max.abs()).max(b.max - b.min);
         let pad = magnitude * (1.0 / 65536.0);
         Aabb::new(b.min - pad, b.max + pad)
+    }
+
+    /// Bounding box of the disc of radius `r` around `centre` across the axis: a
+    /// disc of radius r and unit normal w reaches r·√(1 − w_i²) along axis i.
+    fn disc_bounds(&self, centre: Vec3, r: f32) -> Aabb {
+        let w = self.axis;
+        let reach = Vec3::new(
+            r * (1.0 - w.x * w.x).max(0.0).sqrt(),
+            r * (1.0 - w.y * w.y).max(0.0).sqrt(),
+            r * (1.0 - w.z * w.z).max(0.0).sqrt(),
+        );
+        Aabb::new(centre - reach, centre + reach)
     }
 
     /// Phase one: the nearest hit with `0 < t < t_max` whose axial coordinate lies in
