@@ -148,42 +148,40 @@ pub(super) fn split_long_cones(
     bounds: &[Aabb],
     packs: &[Pack],
 ) -> Option<References> {
-    let count = |i: usize| -> u32 {
-        match (&primitives[i].shape, packs[i]) {
-            (Shape::Cone(c), Pack::Cone) => pieces(c),
-            _ => 1,
-        }
-    };
     if !packs.par_iter().any(|&p| p == Pack::Cone) {
         return None;
     }
-    let counts: Vec<u32> = (0..primitives.len()).map(count).collect();
-    if counts.iter().all(|&n| n == 1) {
+    // (In parallel: a generated rings of 280 000 cones spent 25 ms here on one.)
+    let counts: Vec<u8> = primitives
+        .par_iter()
+        .zip(packs)
+        .map(|(p, &pack)| match (&p.shape, pack) {
+            (Shape::Cone(c), Pack::Cone) => pieces(c) as u8,
+            _ => 1,
+        })
+        .collect();
+    if counts.par_iter().all(|&n| n == 1) {
         return None;
     }
-    let total = counts.iter().map(|&n| n as usize).sum();
-    let mut refs = References {
-        bounds: Vec::with_capacity(total),
-        packs: Vec::with_capacity(total),
-        primitive: Vec::with_capacity(total),
-        piece: Vec::with_capacity(total),
-    };
-    for (i, &of) in counts.iter().enumerate() {
-        for index in 0..of {
-            let piece = Piece {
-                index: index as u8,
-                of: of as u8,
-            };
-            refs.bounds.push(match (&primitives[i].shape, of) {
-                (Shape::Cone(c), 2..) => piece.bounds_of(c),
-                _ => bounds[i],
-            });
-            refs.packs.push(packs[i]);
-            refs.primitive.push(i as u32);
-            refs.piece.push(piece);
-        }
-    }
-    Some(refs)
+    let each = || counts.par_iter().enumerate();
+    let pieces_of = |of: u8| (0..of).map(move |index| Piece { index, of });
+    Some(References {
+        bounds: each()
+            .flat_map_iter(|(i, &of)| {
+                pieces_of(of).map(move |piece| match &primitives[i].shape {
+                    Shape::Cone(c) if of > 1 => piece.bounds_of(c),
+                    _ => bounds[i],
+                })
+            })
+            .collect(),
+        packs: each()
+            .flat_map_iter(|(i, &of)| std::iter::repeat_n(packs[i], of.into()))
+            .collect(),
+        primitive: each()
+            .flat_map_iter(|(i, &of)| std::iter::repeat_n(i as u32, of.into()))
+            .collect(),
+        piece: each().flat_map_iter(|(_, &of)| pieces_of(of)).collect(),
+    })
 }
 
 #[cfg(test)]
