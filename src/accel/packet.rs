@@ -138,8 +138,9 @@ impl Interval {
             far = far.fast_min((d_exit * inv_lo).fast_max(d_exit * inv_hi));
         }
         // The exit stretched as `Node8::entries` stretches each ray's: after the
-        // same monotonic operations, so the test stays conservative.
-        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE)) & near.simd_lt(f32x8::splat(t_limit));
+        // same monotonic operations, so the test stays conservative. (The exit
+        // starts at `t_limit`, so no lane entered past it is kept either.)
+        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE));
         (near.to_array(), hit.to_bitmask())
     }
 }
