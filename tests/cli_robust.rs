@@ -79,13 +79,67 @@ fn exit_2_for_usage_errors_in_one_line_each() {
     assert!(line.contains("unexpected argument"), "{line}");
     fails_with(&nffrt(&["render", s(&scene), "--max-depth", "65"]), 2, "65");
     fails_with(&nffrt(&["render", s(&scene), "--width", "0"]), 2, "0");
-    fails_with(&nffrt(&["render"]), 2, "required");
+    // A missing argument is named, not just said to be missing.
+    fails_with(&nffrt(&["render"]), 2, "not provided: <SCENE>");
+    fails_with(
+        &nffrt(&["bench", s(&scene), "--rays-only"]),
+        2,
+        "not provided: --rays <FILE>",
+    );
+    fails_with(
+        &nffrt(&[]),
+        2,
+        "no command given: gen, info, render, merge, bench",
+    );
     fails_with(
         &nffrt(&["render", s(&scene), "-o", s(&dir.join("x.gif"))]),
         2,
         "unknown image format",
     );
     assert!(!dir.join("x.gif").exists());
+}
+
+/// A bad `--rays` file for `nffrt bench` is reported, with the right exit code, before
+/// the scene is built or anything is printed.
+#[test]
+fn bench_reports_a_bad_rays_file_before_anything_else() {
+    let dir = scratch("bench_rays");
+    let scene = write_tiny(&dir);
+    let ray = |v: [f32; 6]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let bench = |rays: &Path| nffrt(&["bench", s(&scene), "--rays", s(rays), "--repeat", "1"]);
+    let cases: [(&str, Vec<u8>, &str); 4] = [
+        ("empty.f32", Vec::new(), "no rays in the file"),
+        (
+            "short.f32",
+            vec![0; 25],
+            "25 bytes is not a whole number of 24-byte rays",
+        ),
+        (
+            "nan.f32",
+            ray([0.0, 0.0, f32::NAN, 0.0, 0.0, -1.0]),
+            "ray 0 is not finite",
+        ),
+        (
+            "still.f32",
+            [ray([0.0, 0.0, 5.0, 0.0, 0.0, -1.0]), ray([0.0; 6])].concat(),
+            "ray 1 is not finite or has no direction",
+        ),
+    ];
+    for (name, bytes, needle) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let out = bench(&path);
+        fails_with(&out, 3, needle);
+        assert!(
+            out.stdout.is_empty(),
+            "{name}: printed {:?}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+    let out = bench(&dir.join("none.f32"));
+    fails_with(&out, 4, "none.f32: cannot read rays: no such file or directory");
+    assert!(out.stdout.is_empty());
+    fails_with(&bench(&dir), 4, "cannot read rays: is a directory");
 }
 
 #[test]

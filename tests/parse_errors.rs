@@ -240,7 +240,7 @@ fn missing_file_exits_4_with_one_line() {
     assert_eq!(out.status.code(), Some(4));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "nffrt: error: /nonexistent/nffrt/scene.nff: cannot read scene: no such file\n"
+        "nffrt: error: /nonexistent/nffrt/scene.nff: cannot read scene: no such file or directory\n"
     );
     assert!(out.stdout.is_empty());
 }

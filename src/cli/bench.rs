@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::limits::RenderLimitArgs;
 use super::load::load_scene_with;
+use super::output::brief;
 use super::CliError;
 use nffrt::accel::{Bvh, PACKET};
 use nffrt::geometry::build_geometry;
@@ -54,6 +55,8 @@ struct Timing {
 
 /// Runs `nffrt bench`.
 pub fn run(args: BenchArgs) -> Result<(), CliError> {
+    // The rays file first: a bad one is reported before anything is built or printed.
+    let file_rays = args.rays.as_ref().map(read_rays).transpose()?;
     let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
     let scene = &loaded.scene;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -102,8 +105,8 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     } else {
         vec![("primary", primary), ("random", random)]
     };
-    if let Some(path) = &args.rays {
-        sets.push(("rays", read_rays(path)?));
+    if let Some(rays) = file_rays {
+        sets.push(("rays", rays));
     }
     for (name, rays) in &sets {
         #[cfg(feature = "counters")]
@@ -248,7 +251,13 @@ fn random_rays(bvh: &Bvh, n: usize, seed: u64) -> Vec<Ray> {
 /// Reads raw little-endian float32 rays, six floats each.
 fn read_rays(path: &PathBuf) -> Result<Vec<Ray>, CliError> {
     let bytes = std::fs::read(path)
-        .map_err(|e| CliError::io(format!("{}: cannot read rays: {e}", path.display())))?;
+        .map_err(|e| CliError::io(format!("{}: cannot read rays: {}", path.display(), brief(&e))))?;
+    if bytes.is_empty() {
+        return Err(CliError::scene(format!(
+            "{}: no rays in the file",
+            path.display()
+        )));
+    }
     if bytes.len() % 24 != 0 {
         return Err(CliError::scene(format!(
             "{}: {} bytes is not a whole number of 24-byte rays",

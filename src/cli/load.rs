@@ -5,6 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::limits::SceneLimitArgs;
+use super::output::brief;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
@@ -64,14 +65,7 @@ fn read_input(path: &Path, name: &str, max_bytes: u64) -> Result<Vec<u8>, CliErr
     if path.is_dir() {
         return Err(CliError::io(format!("{name}: is a directory, not a scene file")));
     }
-    let cannot_read = |e: std::io::Error| {
-        let why = match e.kind() {
-            std::io::ErrorKind::NotFound => "no such file".to_string(),
-            std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
-            _ => e.to_string(),
-        };
-        CliError::io(format!("{name}: cannot read scene: {why}"))
-    };
+    let cannot_read = |e: std::io::Error| CliError::io(format!("{name}: cannot read scene: {}", brief(&e)));
     let file = std::fs::File::open(path).map_err(cannot_read)?;
     let known = file.metadata().map(|m| m.len()).unwrap_or(0);
     if known > max_bytes {

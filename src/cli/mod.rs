@@ -144,12 +144,31 @@ pub fn run() -> i32 {
 }
 
 /// The first line of clap's message, without its `error: ` prefix: one line per
-/// mistake, like every other error.
+/// mistake, like every other error. A first line ending in a colon introduces the
+/// indented lines after it (the arguments missing), which join it.
 fn usage_line(e: &clap::Error) -> String {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::MissingSubcommand | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        // (clap's message is then the whole help text.)
+        let commands: Vec<String> = <Cli as clap::CommandFactory>::command()
+            .get_subcommands()
+            .map(|c| c.get_name().to_string())
+            .filter(|name| name != "help")
+            .collect();
+        return format!("no command given: {}", commands.join(", "));
+    }
     let text = e.render().to_string();
-    let first = text
-        .lines()
-        .find(|l| !l.trim().is_empty())
-        .unwrap_or("bad command line");
-    first.strip_prefix("error: ").unwrap_or(first).trim().to_string()
+    let mut lines = text.lines().skip_while(|l| l.trim().is_empty());
+    let first = lines.next().unwrap_or("bad command line");
+    let first = first.strip_prefix("error: ").unwrap_or(first).trim();
+    if let Some(head) = first.strip_suffix(':') {
+        let items: Vec<&str> = lines.take_while(|l| l.starts_with("  ")).map(str::trim).collect();
+        if !items.is_empty() {
+            return format!("{head}: {}", items.join(", "));
+        }
+    }
+    first.to_string()
 }
