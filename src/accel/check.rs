@@ -7,7 +7,7 @@ use super::split::Piece;
 use super::tri4::Block;
 use super::wide::WIDTH;
 use crate::geometry::Hit;
-use crate::geometry::Shape;
+use crate::geometry::{ConeShape, Shape};
 use crate::math::{Aabb, Ray, Vec3};
 
 /// Depth limit of the binary tree (the builder stays well below it).
@@ -111,18 +111,16 @@ impl Bvh {
     /// name every copy) that a wide leaf lane with box `lane` holds: for a split cone,
     /// whichever of its pieces' boxes `lane` contains (the first if none does).
     fn lane_entry_bounds(&self, index: usize, lane: &Aabb) -> Result<Aabb, String> {
-        let p = &self.primitives[index];
-        match (&self.copies, &p.shape) {
-            (Some(c), Shape::Cone(cone)) if c.piece[index].of > 1 => {
-                let of = c.piece[index].of;
-                let pieces: Vec<Aabb> = (0..of).map(|index| Piece { index, of }.bounds_of(cone)).collect();
+        match self.split_cone(index) {
+            Some((cone, piece)) => {
+                let pieces: Vec<Aabb> = Piece::all(piece.of).map(|p| p.bounds_of(cone)).collect();
                 Ok(pieces
                     .iter()
                     .copied()
                     .find(|b| lane.contains(b))
                     .unwrap_or(pieces[0]))
             }
-            _ => p
+            None => self.primitives[index]
                 .bounds(&self.data)
                 .ok_or_else(|| "unbounded primitive in a leaf lane".to_string()),
         }
@@ -131,10 +129,19 @@ impl Bvh {
     /// The box leaf-order entry `index` is filed under: its primitive's, or that of
     /// the piece of a split cone it stands for.
     fn entry_bounds(&self, index: usize) -> Option<Aabb> {
-        let p = &self.primitives[index];
-        match (&self.copies, &p.shape) {
-            (Some(c), Shape::Cone(cone)) if c.piece[index].of > 1 => Some(c.piece[index].bounds_of(cone)),
-            _ => p.bounds(&self.data),
+        match self.split_cone(index) {
+            Some((cone, piece)) => Some(piece.bounds_of(cone)),
+            None => self.primitives[index].bounds(&self.data),
+        }
+    }
+
+    /// The cone and piece that leaf-order entry `index` stands for, if it is a piece
+    /// of a split cone.
+    fn split_cone(&self, index: usize) -> Option<(&ConeShape, Piece)> {
+        let piece = self.copies.as_ref()?.piece[index];
+        match &self.primitives[index].shape {
+            Shape::Cone(cone) if piece.of > 1 => Some((cone, piece)),
+            _ => None,
         }
     }
 

@@ -46,6 +46,11 @@ pub(super) struct Piece {
 }
 
 impl Piece {
+    /// The `of` pieces of a primitive split in `of`, from the base.
+    pub fn all(of: u8) -> impl Iterator<Item = Piece> {
+        (0..of).map(move |index| Piece { index, of })
+    }
+
     /// The box of this piece of `cone`.
     pub fn bounds_of(self, cone: &ConeShape) -> Aabb {
         let step = cone.length / f32::from(self.of);
@@ -116,14 +121,8 @@ pub(super) fn pieces(cone: &ConeShape) -> u32 {
         return 1;
     }
     let area = |of: u32| -> f32 {
-        (0..of)
-            .map(|index| {
-                let piece = Piece {
-                    index: index as u8,
-                    of: of as u8,
-                };
-                piece.bounds_of(cone).surface_area()
-            })
+        Piece::all(of as u8)
+            .map(|p| p.bounds_of(cone).surface_area())
             .sum()
     };
     let mut of = 1;
@@ -164,11 +163,10 @@ pub(super) fn split_long_cones(
         return None;
     }
     let each = || counts.par_iter().enumerate();
-    let pieces_of = |of: u8| (0..of).map(move |index| Piece { index, of });
     Some(References {
         bounds: each()
             .flat_map_iter(|(i, &of)| {
-                pieces_of(of).map(move |piece| match &primitives[i].shape {
+                Piece::all(of).map(move |piece| match &primitives[i].shape {
                     Shape::Cone(c) if of > 1 => piece.bounds_of(c),
                     _ => bounds[i],
                 })
@@ -180,7 +178,7 @@ pub(super) fn split_long_cones(
         primitive: each()
             .flat_map_iter(|(i, &of)| std::iter::repeat_n(i as u32, of.into()))
             .collect(),
-        piece: each().flat_map_iter(|(_, &of)| pieces_of(of)).collect(),
+        piece: each().flat_map_iter(|(_, &of)| Piece::all(of)).collect(),
     })
 }
 
@@ -242,9 +240,7 @@ mod tests {
                 .normalize();
             let v = w.cross(u);
             for of in [1u8, 2, 4] {
-                let boxes: Vec<Aabb> = (0..of)
-                    .map(|index| Piece { index, of }.bounds_of(&cone))
-                    .collect();
+                let boxes: Vec<Aabb> = Piece::all(of).map(|p| p.bounds_of(&cone)).collect();
                 for i in 0..=64 {
                     let s = cone.length * i as f32 / 64.0;
                     let r = cone.base_radius + cone.slope * s;
