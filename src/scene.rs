@@ -7,6 +7,9 @@
 //! A generated scene ([`crate::gen`]) numbers its primitives with the lines they
 //! occupy when [`crate::nff::write_nff`] writes it, which also fixes their order there.
 
+use std::sync::Arc;
+
+use crate::image::skybox::Skybox;
 use crate::math::{Aabb, Vec3};
 
 /// A surface material, the operands of the NFF `f` keyword.
@@ -48,7 +51,17 @@ pub struct Light {
     pub color: Option<Vec3>,
 }
 
-/// The pinhole camera of the `v` block.
+/// What a view's `angle` spans, vertically (pixels are square).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AngleSpan {
+    /// NFF: from the centre of the top pixel row to the centre of the bottom one.
+    #[default]
+    PixelCentres,
+    /// P3F: from the top edge of the image to its bottom edge.
+    ImageEdges,
+}
+
+/// The camera of the `v` block (NFF and P3F 2019) or the `camera` block (P3F 2025).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// Eye position.
@@ -57,7 +70,7 @@ pub struct View {
     pub at: Vec3,
     /// Up direction (need not be perpendicular to the view direction).
     pub up: Vec3,
-    /// Field of view in degrees between the centres of the outer pixel rows.
+    /// Vertical field of view in degrees (see [`View::angle_span`]).
     pub angle: f32,
     /// Near distance for hidden-surface renderers; a ray tracer ignores it.
     pub hither: f32,
@@ -65,6 +78,12 @@ pub struct View {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// What `angle` spans: pixel centres in NFF, image edges in P3F.
+    pub angle_span: AngleSpan,
+    /// Lens diameter in pixels of the view plane (P3F `aperture`); 0 is a pinhole.
+    pub aperture: f32,
+    /// Distance of the plane of sharp focus as a multiple of `|from - at|` (P3F `focal`).
+    pub focal: f32,
 }
 
 impl Default for View {
@@ -78,6 +97,9 @@ impl Default for View {
             hither: 1.0,
             width: 512,
             height: 512,
+            angle_span: AngleSpan::PixelCentres,
+            aperture: 0.0,
+            focal: 1.0,
         }
     }
 }
@@ -165,6 +187,20 @@ pub struct BoxPrim {
     pub line: u32,
 }
 
+/// A skybox named by the scene (P3F `env FOLDER`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// The folder as written, relative to the scene file's directory.
+    pub folder: String,
+    /// Line of the `env` keyword.
+    pub line: u32,
+    /// Column of the folder's name.
+    pub column: u32,
+    /// The six decoded faces, once the scene's files have been read
+    /// ([`crate::load`]); `None` for a scene parsed from text alone.
+    pub skybox: Option<Arc<Skybox>>,
+}
+
 /// Something the parser tolerated, with where it was.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Warning {
@@ -187,8 +223,10 @@ impl std::fmt::Display for Warning {
 pub struct Scene {
     /// The camera.
     pub view: View,
-    /// Background colour.
+    /// Background colour (`b`, P3F `bclr`), seen where no skybox is.
     pub background: Vec3,
+    /// The skybox, which replaces the background colour once loaded.
+    pub environment: Option<Environment>,
     /// Point lights in file order.
     pub lights: Vec<Light>,
     /// Material table; primitives refer to it by index.

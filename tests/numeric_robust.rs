@@ -23,6 +23,7 @@ fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Imag
         height: size,
         max_depth,
         sampling,
+        ..Default::default()
     };
     render(&scene, &bvh, &opts)
 }
@@ -214,6 +215,7 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
         height: 4,
         max_depth: 64,
         sampling: Sampling::PixelCenters,
+        ..Default::default()
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)

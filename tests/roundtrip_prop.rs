@@ -80,6 +80,7 @@ fn view() -> impl Strategy<Value = View> {
                 hither,
                 width,
                 height,
+                ..View::default()
             }
         })
 }

@@ -14,7 +14,7 @@ use super::CliError;
 use nffrt::accel::{Bvh, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::math::{Ray, Vec3};
-use nffrt::render::{Camera, Sampling};
+use nffrt::render::{Camera, RenderOptions, Sampling};
 
 /// Arguments of `nffrt bench`.
 #[derive(Args, Debug)]
@@ -89,10 +89,10 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             args.limits.max_pixels
         )));
     }
-    let camera = Camera::new(&scene.view, w, h);
+    let camera = Camera::new(&scene.view, &RenderOptions::from_scene(scene));
     let primary: Vec<Ray> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5))
+        .map(|(i, j)| camera.ray_at(i as f32 + 0.5, j as f32 + 0.5))
         .collect();
     let random = random_rays(&bvh, n_random, args.seed);
 

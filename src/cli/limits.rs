@@ -79,7 +79,7 @@ impl RenderLimitArgs {
     ) -> Result<(), CliError> {
         let (w, h) = (width as u64, height as u64);
         let grid = match sampling {
-            Sampling::PixelCenters | Sampling::Stratified { .. } => w * h,
+            Sampling::PixelCenters | Sampling::Stratified { .. } | Sampling::Independent { .. } => w * h,
             Sampling::SpdCorners => (w + 1) * (h + 1),
         };
         if grid > self.max_pixels {

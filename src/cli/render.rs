@@ -110,6 +110,7 @@ pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
             (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
             _ => Sampling::PixelCenters,
         },
+        ..Default::default()
     }
 }
 

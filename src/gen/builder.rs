@@ -99,6 +99,7 @@ impl Builder {
             hither: spd_round(camera.hither),
             width: 512,
             height: 512,
+            ..View::default()
         };
         let lights = lights
             .iter()

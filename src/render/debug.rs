@@ -8,10 +8,11 @@
 use std::fmt;
 
 use super::trace::{Branch, HitRecord, LightOutcome, Recorder, Tracer};
-use super::{spd_mean, stratified_mean, Camera, RenderOptions, Sampling, Stats, Strata};
+use super::{pixel_mean, spd_mean, Camera, CameraSample, RenderOptions, Sampling, Stats};
 use crate::accel::Bvh;
 use crate::geometry::SourceKind;
 use crate::image::quantize;
+use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
 
@@ -101,7 +102,7 @@ impl TreeRecorder<'_> {
 }
 
 impl Recorder for TreeRecorder<'_> {
-    fn miss(&mut self, ray: &Ray, background: Vec3) {
+    fn miss(&mut self, ray: &Ray, background: Vec3, _texel: Option<SkyTexel>) {
         let node = RayNode {
             origin: ray.origin,
             dir: ray.dir,
@@ -157,29 +158,31 @@ impl Recorder for TreeRecorder<'_> {
 
 /// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) as the renderer does.
 pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
-    let camera = Camera::new(&scene.view, opts.width, opts.height);
+    let camera = Camera::new(&scene.view, opts);
     let tracer = Tracer::new(scene, bvh, opts.max_depth);
     let mut stats = Stats::default();
     let mut samples = Vec::new();
     super::trace::reset_shadow_cache();
-    let mut trace_at = |px: f32, py: f32| {
+    let mut trace_at = |sample: CameraSample| {
         let mut rec = TreeRecorder {
             scene,
             open: Vec::new(),
             pending: None,
             root: None,
         };
-        let c = tracer.trace_eye_recorded(&camera.ray(px, py), &mut stats, &mut rec);
-        samples.push(((px, py), rec.root.expect("every eye ray records a tree")));
+        let c = tracer.trace_eye_recorded(&camera.ray(&sample), &mut stats, &mut rec);
+        samples.push((sample.raster, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
-        Sampling::PixelCenters => trace_at(x as f32 + 0.5, y as f32 + 0.5),
-        Sampling::Stratified { spp } => stratified_mean(&Strata::new(spp), x, y, trace_at),
+        Sampling::PixelCenters => trace_at(CameraSample::at(x as f32 + 0.5, y as f32 + 0.5)),
+        Sampling::Stratified { .. } | Sampling::Independent { .. } => {
+            pixel_mean(&opts.sampling, x, y, |sample, _| trace_at(sample))
+        }
         Sampling::SpdCorners => {
             let (fx, fy) = (x as f32, y as f32);
-            let c =
-                [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)].map(|(a, b)| trace_at(a, b));
+            let c = [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)]
+                .map(|(a, b)| trace_at(CameraSample::at(a, b)));
             spd_mean(c[0], c[1], c[2], c[3])
         }
     };

@@ -5,12 +5,14 @@
 //! hot path pays nothing; `--pixel` passes a recorder that builds the ray tree
 //! (`render::debug`). One code path thus both renders and explains a pixel.
 
+use super::background::Background;
 use super::shade::{reflect, refract, Lighting};
 use super::stats::Stats;
 use std::cell::Cell;
 
 use crate::accel::{Bvh, NO_HINT, PACKET};
 use crate::geometry::{Hit, Primitive};
+use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
 
@@ -23,7 +25,7 @@ pub struct Tracer<'a> {
     bvh: &'a Bvh,
     materials: &'a [Material],
     lighting: Lighting,
-    background: Vec3,
+    background: Background,
     max_depth: u32,
 }
 
@@ -77,8 +79,9 @@ pub trait Recorder {
     /// False for a recorder that ignores everything: the tracer then skips building
     /// the reports altogether.
     const ENABLED: bool = true;
-    /// The ray left the scene and sees `background`.
-    fn miss(&mut self, _ray: &Ray, _background: Vec3) {}
+    /// The ray left the scene and sees `background`, from skybox texel `texel` if
+    /// the background is a skybox.
+    fn miss(&mut self, _ray: &Ray, _background: Vec3, _texel: Option<SkyTexel>) {}
     /// The ray hit a surface.
     fn hit(&mut self, _ray: &Ray, _hit: &HitRecord) {}
     /// Light `index` (in file order) at the current hit.
@@ -140,7 +143,7 @@ impl<'a> Tracer<'a> {
             bvh,
             materials: &scene.materials,
             lighting: Lighting::new(scene),
-            background: scene.background,
+            background: Background::of(scene),
             max_depth,
         }
     }
@@ -190,10 +193,11 @@ impl<'a> Tracer<'a> {
         rec: &mut R,
     ) -> Vec3 {
         let Some((hit, index)) = found else {
+            let (color, texel) = self.background.look(ray.dir);
             if R::ENABLED {
-                rec.miss(ray, self.background);
+                rec.miss(ray, color, texel);
             }
-            return self.background;
+            return color;
         };
         if depth == 1 {
             stats.eye_hits += 1;
