@@ -12,13 +12,16 @@ use std::sync::Arc;
 use crate::image::skybox::Skybox;
 use crate::math::{Aabb, Vec3};
 
-/// A surface material, the operands of the NFF `f` keyword.
+/// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
+/// `f` / `mat` with its specular colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// Base colour (linear RGB).
+    /// Base (diffuse) colour (linear RGB).
     pub color: Vec3,
     /// Diffuse weight `Kd`.
     pub kd: f32,
+    /// Specular colour: tints the highlight and the mirror reflection (P3F; white in NFF).
+    pub specular: Vec3,
     /// Specular weight `Ks`: highlight strength and reflection coefficient.
     pub ks: f32,
     /// Phong exponent.
@@ -35,6 +38,7 @@ impl Material {
     pub const DEFAULT: Material = Material {
         color: Vec3::ONE,
         kd: 1.0,
+        specular: Vec3::ONE,
         ks: 0.0,
         shine: 1.0,
         t: 0.0,
@@ -42,13 +46,59 @@ impl Material {
     };
 }
 
-/// A point light (`l x y z [r g b]`).
+/// A light: a point (`l x y z [r g b]`, P3F `light punctual`) or a parallelogram
+/// (P3F `al`, `light quad`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
-    /// Position in world space.
+    /// The point light's position; an area light's corner.
     pub position: Vec3,
-    /// Colour if the file gives one; `None` means the SPD's default intensity.
+    /// Colour (intensity) if the file gives one; `None` means the SPD's default.
     pub color: Option<Vec3>,
+    /// The area light's extent; `None` for a point light.
+    pub area: Option<LightArea>,
+}
+
+/// The extent of an area light: the points `position + u edge1 + v edge2`, `u` and
+/// `v` in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightArea {
+    /// First edge, from the corner.
+    pub edge1: Vec3,
+    /// Second edge, from the corner.
+    pub edge2: Vec3,
+    /// Points per side of the regular grid sampled with one eye sample per pixel.
+    pub grid: u32,
+}
+
+impl Light {
+    /// A point light.
+    pub fn point(position: Vec3, color: Option<Vec3>) -> Light {
+        Light {
+            position,
+            color,
+            area: None,
+        }
+    }
+}
+
+/// Which language a scene was written in; it chooses the shading model (the NFF /
+/// SPD rules or the P3F course's) and how the writer spells it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum Dialect {
+    /// NFF, with nffrt's extensions.
+    #[default]
+    Nff,
+    /// P3F as of the 2019/20 course (`v`, `f`, `l`, `al`).
+    P3f2019,
+    /// P3F as of the 2024/25 course (`camera`, `mat`, `light`, `spp`, `accel`).
+    P3f2025,
+}
+
+impl Dialect {
+    /// True for either P3F dialect.
+    pub fn is_p3f(self) -> bool {
+        self != Dialect::Nff
+    }
 }
 
 /// What a view's `angle` spans, vertically (pixels are square).
@@ -218,9 +268,11 @@ impl std::fmt::Display for Warning {
     }
 }
 
-/// A whole NFF scene.
+/// A whole scene (NFF or P3F).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
+    /// The language it was written in.
+    pub dialect: Dialect,
     /// The camera.
     pub view: View,
     /// Background colour (`b`, P3F `bclr`), seen where no skybox is.

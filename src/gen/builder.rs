@@ -68,6 +68,7 @@ impl Surface {
         Material {
             color: Vec3::new(spd_round(r), spd_round(g), spd_round(b)),
             kd: spd_round(self.kd),
+            specular: Vec3::ONE,
             ks: spd_round(self.ks),
             shine: spd_round(shine),
             t: spd_round(self.t),
@@ -103,10 +104,7 @@ impl Builder {
         };
         let lights = lights
             .iter()
-            .map(|&p| Light {
-                position: spd_round3(p),
-                color: None,
-            })
+            .map(|&p| Light::point(spd_round3(p), None))
             .collect();
         let scene = Scene {
             view,

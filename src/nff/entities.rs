@@ -108,7 +108,7 @@ impl Parser<'_> {
             Some(t) if parse_f32(t.text).is_some() => Some(self.vec3("light colour r g b")?),
             _ => None,
         };
-        self.scene.lights.push(Light { position, color });
+        self.scene.lights.push(Light::point(position, color));
         Ok(())
     }
 
@@ -117,6 +117,7 @@ impl Parser<'_> {
         let m = Material {
             color: self.vec3("material colour r g b")?,
             kd: self.number("material Kd")?,
+            specular: Vec3::ONE,
             ks: self.number("material Ks")?,
             shine: self.number("material shine")?,
             t: self.number("material T")?,

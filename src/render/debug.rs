@@ -7,8 +7,8 @@
 
 use std::fmt;
 
-use super::trace::{Branch, HitRecord, LightOutcome, Recorder, Tracer};
-use super::{pixel_mean, spd_mean, Camera, CameraSample, RenderOptions, Sampling, Stats};
+use super::trace::{AreaOutcome, Branch, HitRecord, LightOutcome, Recorder, Tracer};
+use super::{pixel_mean, spd_mean, Camera, CameraSample, RenderOptions, SampleId, Sampling, Stats};
 use crate::accel::Bvh;
 use crate::geometry::SourceKind;
 use crate::image::quantize;
@@ -53,9 +53,23 @@ pub struct HitNode {
     /// The ambient term.
     pub ambient: Vec3,
     /// Each light's outcome, in file order.
-    pub lights: Vec<LightOutcome>,
+    pub lights: Vec<LightRecord>,
     /// Secondary rays: kind, weight and the subtree.
-    pub children: Vec<(Branch, f32, RayNode)>,
+    pub children: Vec<(Branch, Vec3, RayNode)>,
+}
+
+/// What one light did at a hit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightRecord {
+    /// A point light's outcome.
+    Point(LightOutcome),
+    /// An area light: each sampled point with its outcome, and the sum.
+    Area {
+        /// The points sampled and what became of each.
+        points: Vec<(Vec3, LightOutcome)>,
+        /// The counts and the total contribution.
+        outcome: AreaOutcome,
+    },
 }
 
 /// The ray trees of every eye ray of one pixel, and the pixel's value.
@@ -80,13 +94,15 @@ pub struct PixelTrace {
 /// Builds the tree from the recursion's events.
 struct TreeRecorder<'a> {
     scene: &'a Scene,
-    open: Vec<(Option<(Branch, f32)>, RayNode)>,
-    pending: Option<(Branch, f32)>,
+    open: Vec<(Option<(Branch, Vec3)>, RayNode)>,
+    pending: Option<(Branch, Vec3)>,
+    /// Points of the area light being sampled.
+    points: Vec<(Vec3, LightOutcome)>,
     root: Option<RayNode>,
 }
 
 impl TreeRecorder<'_> {
-    fn attach(&mut self, branch: Option<(Branch, f32)>, node: RayNode) {
+    fn attach(&mut self, branch: Option<(Branch, Vec3)>, node: RayNode) {
         match (self.open.last_mut(), branch) {
             (Some((_, parent)), Some((kind, w))) => {
                 parent
@@ -97,6 +113,14 @@ impl TreeRecorder<'_> {
                     .push((kind, w, node));
             }
             _ => self.root = Some(node),
+        }
+    }
+}
+
+impl TreeRecorder<'_> {
+    fn push_light(&mut self, record: LightRecord) {
+        if let Some((_, RayNode { hit: Some(h), .. })) = self.open.last_mut() {
+            h.lights.push(record);
         }
     }
 }
@@ -139,12 +163,19 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn light(&mut self, _index: usize, outcome: LightOutcome) {
-        if let Some((_, RayNode { hit: Some(h), .. })) = self.open.last_mut() {
-            h.lights.push(outcome);
-        }
+        self.push_light(LightRecord::Point(outcome));
     }
 
-    fn branch(&mut self, kind: Branch, weight: f32) {
+    fn light_sample(&mut self, _index: usize, point: Vec3, outcome: LightOutcome) {
+        self.points.push((point, outcome));
+    }
+
+    fn area_light(&mut self, _index: usize, outcome: AreaOutcome) {
+        let points = std::mem::take(&mut self.points);
+        self.push_light(LightRecord::Area { points, outcome });
+    }
+
+    fn branch(&mut self, kind: Branch, weight: Vec3) {
         self.pending = Some((kind, weight));
     }
 
@@ -159,30 +190,34 @@ impl Recorder for TreeRecorder<'_> {
 /// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) as the renderer does.
 pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
     let camera = Camera::new(&scene.view, opts);
-    let tracer = Tracer::new(scene, bvh, opts.max_depth);
+    let tracer = Tracer::new(scene, bvh, opts);
     let mut stats = Stats::default();
     let mut samples = Vec::new();
     super::trace::reset_shadow_cache();
-    let mut trace_at = |sample: CameraSample| {
+    let mut trace_at = |sample: CameraSample, id: SampleId| {
         let mut rec = TreeRecorder {
             scene,
             open: Vec::new(),
             pending: None,
+            points: Vec::new(),
             root: None,
         };
-        let c = tracer.trace_eye_recorded(&camera.ray(&sample), &mut stats, &mut rec);
+        let c = tracer.trace_eye_recorded(&camera.ray(&sample), &id, &mut stats, &mut rec);
         samples.push((sample.raster, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
-        Sampling::PixelCenters => trace_at(CameraSample::at(x as f32 + 0.5, y as f32 + 0.5)),
+        Sampling::PixelCenters => trace_at(
+            CameraSample::at(x as f32 + 0.5, y as f32 + 0.5),
+            SampleId::single(x, y),
+        ),
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
-            pixel_mean(&opts.sampling, x, y, |sample, _| trace_at(sample))
+            pixel_mean(&opts.sampling, x, y, trace_at)
         }
         Sampling::SpdCorners => {
             let (fx, fy) = (x as f32, y as f32);
             let c = [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)]
-                .map(|(a, b)| trace_at(CameraSample::at(a, b)));
+                .map(|(a, b)| trace_at(CameraSample::at(a, b), SampleId::single(a as u32, b as u32)));
             spd_mean(c[0], c[1], c[2], c[3])
         }
     };
@@ -210,6 +245,33 @@ impl fmt::Display for V {
             self.0.y + 0.0,
             self.0.z + 0.0
         )
+    }
+}
+
+/// A light point's outcome as printed.
+struct Outcome<'a>(&'a LightOutcome);
+
+impl fmt::Display for Outcome<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            LightOutcome::Behind => write!(f, "behind the surface (no shadow ray)"),
+            LightOutcome::Shadowed => write!(f, "shadowed"),
+            LightOutcome::Lit(c) => write!(f, "adds {}", V(*c)),
+        }
+    }
+}
+
+/// A secondary ray's weight: one number when its three channels agree.
+struct Weight(Vec3);
+
+impl fmt::Display for Weight {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let w = self.0;
+        if w.x == w.y && w.y == w.z {
+            write!(f, "{}", w.x)
+        } else {
+            write!(f, "{}", V(w))
+        }
     }
 }
 
@@ -255,16 +317,27 @@ impl PixelTrace {
             m.ior
         )?;
         writeln!(f, "{pad}  ambient {}", V(h.ambient))?;
-        for (k, outcome) in h.lights.iter().enumerate() {
+        for (k, record) in h.lights.iter().enumerate() {
             let at = self.lights.get(k).map(|&p| V(p).to_string()).unwrap_or_default();
-            match outcome {
-                LightOutcome::Behind => writeln!(
-                    f,
-                    "{pad}  light {} at {at}: behind the surface (no shadow ray)",
-                    k + 1
-                )?,
-                LightOutcome::Shadowed => writeln!(f, "{pad}  light {} at {at}: shadowed", k + 1)?,
-                LightOutcome::Lit(c) => writeln!(f, "{pad}  light {} at {at}: adds {}", k + 1, V(*c))?,
+            match record {
+                LightRecord::Point(outcome) => {
+                    writeln!(f, "{pad}  light {} at {at}: {}", k + 1, Outcome(outcome))?
+                }
+                LightRecord::Area { points, outcome } => {
+                    writeln!(
+                        f,
+                        "{pad}  area light {} at {at}: {} points, {} lit, {} shadowed, {} behind: adds {}",
+                        k + 1,
+                        outcome.samples,
+                        outcome.samples - outcome.shadowed - outcome.behind,
+                        outcome.shadowed,
+                        outcome.behind,
+                        V(outcome.contribution)
+                    )?;
+                    for (p, o) in points {
+                        writeln!(f, "{pad}    point {}: {}", V(*p), Outcome(o))?;
+                    }
+                }
             }
         }
         if h.children.is_empty() && (m.ks > 0.0 || m.t > 0.0) {
@@ -276,7 +349,7 @@ impl PixelTrace {
                 Branch::TotalInternalReflection => "reflection (total internal reflection)",
                 Branch::Refraction => "refraction",
             };
-            writeln!(f, "{pad}  {name}, weight {w}:")?;
+            writeln!(f, "{pad}  {name}, weight {}:", Weight(*w))?;
             self.write_node(f, child, indent + 2)?;
         }
         writeln!(f, "{pad}  = colour {}", V(node.color))
@@ -322,7 +395,10 @@ mod tests {
     fn tally(node: &RayNode, acc: &mut [u64; 5]) {
         let Some(h) = &node.hit else { return };
         acc[0] += 1;
-        for o in &h.lights {
+        for record in &h.lights {
+            let LightRecord::Point(o) = record else {
+                panic!("the test scene has point lights only")
+            };
             acc[3] += (*o != LightOutcome::Behind) as u64;
             acc[4] += (*o == LightOutcome::Shadowed) as u64;
         }

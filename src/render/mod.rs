@@ -9,6 +9,7 @@
 mod background;
 mod camera;
 pub mod debug;
+mod light;
 mod sampling;
 mod shade;
 mod stats;
@@ -16,9 +17,11 @@ mod trace;
 
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
+pub use light::{LightSampling, LightSource};
 pub use sampling::{permute, sample_2d, Dim, SampleId, Sampling, Strata};
+pub use shade::{schlick, Model};
 pub use stats::Stats;
-pub use trace::{Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
+pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
 use rayon::prelude::*;
 
@@ -42,6 +45,11 @@ pub struct RenderOptions {
     pub aperture: Option<f32>,
     /// Focal distance as a multiple of `|from - at|`, replacing the scene's.
     pub focal: Option<f32>,
+    /// Points per side of the grid every hit samples on each area light, replacing
+    /// the default sampling (see `light.rs`).
+    pub light_samples: Option<u32>,
+    /// False: each area light shines from its centre alone (hard shadows).
+    pub soft_shadows: bool,
 }
 
 impl Default for RenderOptions {
@@ -54,6 +62,8 @@ impl Default for RenderOptions {
             sampling: Sampling::PixelCenters,
             aperture: None,
             focal: None,
+            light_samples: None,
+            soft_shadows: true,
         }
     }
 }
@@ -133,7 +143,7 @@ pub fn render_region(
         opts.height
     );
     let camera = Camera::new(&scene.view, opts);
-    let tracer = Tracer::new(scene, bvh, opts.max_depth);
+    let tracer = Tracer::new(scene, bvh, opts);
     let (x0, y0) = (region.x0, region.y0);
     let (w, h) = (region.width() as usize, region.height() as usize);
     // A row of eye rays through raster points (x0 + i + offset, y + offset) and the
@@ -142,15 +152,15 @@ pub fn render_region(
         let rays: Vec<Ray> = (0..cols as u32)
             .map(|i| camera.ray_at((x0 + i) as f32 + offset, y as f32 + offset))
             .collect();
-        tracer.trace_eye_row(&rays, st, out);
+        tracer.trace_eye_row(&rays, (x0, y), st, out);
     };
     let pixels = match opts.sampling {
         Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
             trace_rows(y0, w, h, observer, |y, st, out| {
                 for x in x0..x0 + w as u32 {
-                    out.push(pixel_mean(&opts.sampling, x, y, |sample, _| {
-                        tracer.trace_eye(&camera.ray(&sample), st)
+                    out.push(pixel_mean(&opts.sampling, x, y, |sample, id| {
+                        tracer.trace_eye(&camera.ray(&sample), &id, st)
                     }));
                 }
             })
