@@ -1,7 +1,9 @@
 //! # nffrt — a fast, correct Whitted ray tracer for NFF scenes
 //!
 //! NFF (Eric Haines' Neutral File Format) is the scene format of the Standard
-//! Procedural Databases. The pipeline: [`nff::parse`] text into a [`Scene`];
+//! Procedural Databases, and P3F, the extended NFF of the IST course that builds on
+//! it. The pipeline: [`nff::parse`] text into a [`Scene`] ([`load`] reads a file and
+//! the images it names);
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
 //! [`image`] encodes it. [`gen`] makes the SPD's classic scenes at any size.
@@ -28,9 +30,22 @@ pub mod accel;
 pub mod gen;
 pub mod geometry;
 pub mod image;
+pub mod load;
 pub mod math;
 pub mod nff;
 pub mod render;
 pub mod scene;
 
 pub use scene::Scene;
+
+/// A short, lower-case description of an I/O error, the same wording everywhere:
+/// `no such file or directory`, `permission denied`, `is a directory`, or the
+/// system's own text for anything else.
+pub fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file or directory".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        std::io::ErrorKind::IsADirectory => "is a directory".into(),
+        _ => e.to_string(),
+    }
+}

@@ -237,6 +237,48 @@ pub struct BoxPrim {
     pub line: u32,
 }
 
+/// A triangle mesh (P3F `mesh nv nt`); its vertices are
+/// `scene.mesh_vertices[first_vertex .. first_vertex + vertex_count]` and its
+/// triangles `scene.mesh_triangles[first_triangle .. first_triangle + triangle_count]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mesh {
+    /// Index of its first vertex in [`Scene::mesh_vertices`].
+    pub first_vertex: u32,
+    /// Number of vertices.
+    pub vertex_count: u32,
+    /// Index of its first triangle in [`Scene::mesh_triangles`].
+    pub first_triangle: u32,
+    /// Number of triangles kept (degenerate ones are skipped).
+    pub triangle_count: u32,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Line of the `mesh` keyword in the source.
+    pub line: u32,
+}
+
+/// One triangle of a [`Mesh`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshTriangle {
+    /// Its corners, as indices into [`Scene::mesh_vertices`] (resolved from the
+    /// file's 1-based or from-the-end indices).
+    pub vertices: [u32; 3],
+    /// Line of its first index in the source.
+    pub line: u32,
+}
+
+/// The acceleration structure a P3F file asks for (`accel`); nffrt always builds its
+/// BVH and reports the request.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Accel {
+    /// `accel none`
+    None,
+    /// `accel grid`
+    Grid,
+    /// `accel bvh`
+    Bvh,
+}
+
 /// A skybox named by the scene (P3F `env FOLDER`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
@@ -301,6 +343,17 @@ pub struct Scene {
     pub planes: Vec<Plane>,
     /// Boxes.
     pub boxes: Vec<BoxPrim>,
+    /// Triangle meshes.
+    pub meshes: Vec<Mesh>,
+    /// Vertices of all meshes.
+    pub mesh_vertices: Vec<Vec3>,
+    /// Triangles of all meshes.
+    pub mesh_triangles: Vec<MeshTriangle>,
+    /// Samples per pixel asked for by the file (P3F `spp`; 0 is one sample at the
+    /// pixel centre), the default of `--spp`.
+    pub spp: Option<u32>,
+    /// The acceleration structure the file asks for (P3F `accel`).
+    pub accel: Option<Accel>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
 }
@@ -317,7 +370,12 @@ impl Scene {
         (&self.patch_vertices[r.clone()], &self.patch_normals[r])
     }
 
-    /// Number of bounded primitives plus planes.
+    /// The triangles of one mesh (their corners index [`Scene::mesh_vertices`]).
+    pub fn mesh_triangles_of(&self, m: &Mesh) -> &[MeshTriangle] {
+        &self.mesh_triangles[m.first_triangle as usize..(m.first_triangle + m.triangle_count) as usize]
+    }
+
+    /// Number of primitives: bounded ones, planes and mesh triangles.
     pub fn primitive_count(&self) -> usize {
         self.spheres.len()
             + self.cones.len()
@@ -325,6 +383,86 @@ impl Scene {
             + self.patches.len()
             + self.planes.len()
             + self.boxes.len()
+            + self.mesh_triangles.len()
+    }
+
+    /// Appends the primitives, their vertices and the lights of `other`, a scene
+    /// parsed from a later piece of the same file: each primitive's material index is
+    /// mapped by `material`, and vertex and triangle ranges are shifted past this
+    /// scene's. The camera, background, environment, materials, settings and
+    /// warnings of `other` are the caller's to merge: the exhaustive destructuring
+    /// below makes whoever adds a field to [`Scene`] decide how it joins.
+    pub fn append(&mut self, other: Scene, material: &mut impl FnMut(u32) -> u32) {
+        let Scene {
+            dialect: _,
+            view: _,
+            background: _,
+            environment: _,
+            lights,
+            materials: _,
+            spheres,
+            cones,
+            polygons,
+            polygon_vertices,
+            patches,
+            patch_vertices,
+            patch_normals,
+            planes,
+            boxes,
+            meshes,
+            mesh_vertices,
+            mesh_triangles,
+            spp: _,
+            accel: _,
+            warnings: _,
+        } = other;
+        let polygon_base = self.polygon_vertices.len() as u32;
+        let patch_base = self.patch_vertices.len() as u32;
+        let (vertex_base, triangle_base) =
+            (self.mesh_vertices.len() as u32, self.mesh_triangles.len() as u32);
+        let remap = |m: &mut u32, material: &mut dyn FnMut(u32) -> u32| *m = material(*m);
+        self.spheres.extend(spheres.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.cones.extend(cones.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.polygons.extend(polygons.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first += polygon_base;
+            x
+        }));
+        self.patches.extend(patches.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first += patch_base;
+            x
+        }));
+        self.planes.extend(planes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.boxes.extend(boxes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.meshes.extend(meshes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first_vertex += vertex_base;
+            x.first_triangle += triangle_base;
+            x
+        }));
+        self.mesh_triangles
+            .extend(mesh_triangles.into_iter().map(|mut t| {
+                t.vertices = t.vertices.map(|i| i + vertex_base);
+                t
+            }));
+        self.polygon_vertices.extend(polygon_vertices);
+        self.patch_vertices.extend(patch_vertices);
+        self.patch_normals.extend(patch_normals);
+        self.mesh_vertices.extend(mesh_vertices);
+        self.lights.extend(lights);
     }
 
     /// Bounding box of every bounded primitive (planes excluded); empty if none.
@@ -343,6 +481,11 @@ impl Scene {
         }
         for v in self.polygon_vertices.iter().chain(&self.patch_vertices) {
             b = b.grow(*v);
+        }
+        for t in &self.mesh_triangles {
+            for &i in &t.vertices {
+                b = b.grow(self.mesh_vertices[i as usize]);
+            }
         }
         for x in &self.boxes {
             b = b.union(Aabb::new(x.min, x.max));

@@ -9,6 +9,8 @@ use super::output::brief;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
+use nffrt::load::{load_bytes, LoadError};
+use nffrt::nff::Format;
 use nffrt::Scene;
 
 /// A parsed scene with the name it is reported under and the time parsing took.
@@ -21,9 +23,12 @@ pub struct LoadedScene {
     pub parse_s: f64,
 }
 
-/// Reads and parses `path` (`-` is standard input) within `limits`: a file larger than
-/// `--max-scene-bytes` is refused before it is read. Parse errors come back as
-/// `PATH:LINE:COL: message` with the bad-scene exit code.
+/// Reads and parses `path` (`-` is standard input) within `limits`, in the format of
+/// `--format` or the file's extension, and decodes the files it names (a P3F
+/// skybox, relative to the scene file; to the current directory for standard
+/// input): a file larger than `--max-scene-bytes` is refused before it is read.
+/// Parse errors come back as `PATH:LINE:COL: message` with the bad-scene exit
+/// code; a missing or corrupt skybox image with the I/O exit code, naming it.
 pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
@@ -32,8 +37,16 @@ pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedSce
     };
     let bytes = read_input(path, &name, limits.max_scene_bytes)?;
     let t0 = Instant::now();
-    let scene = nffrt::nff::parse_bytes_with(&bytes, &limits.parse_limits())
-        .map_err(|e| CliError::scene(format!("{name}:{}:{}: {}", e.line, e.column, e.kind)))?;
+    let stdin = path == Path::new("-");
+    let format = limits
+        .format
+        .map(Format::from)
+        .unwrap_or_else(|| Format::of_path(path));
+    let dir = if stdin { None } else { path.parent() };
+    let scene = load_bytes(&bytes, format, &name, dir, &limits.parse_limits()).map_err(|e| match e {
+        LoadError::Parse { .. } => CliError::scene(e.to_string()),
+        LoadError::Io { .. } | LoadError::Asset { .. } => CliError::io(e.to_string()),
+    })?;
     Ok(LoadedScene {
         scene,
         name,
@@ -113,5 +126,8 @@ pub fn build_bvh(scene: &mut Scene) -> Bvh {
     scene.patches = Vec::new();
     scene.planes = Vec::new();
     scene.boxes = Vec::new();
+    scene.meshes = Vec::new();
+    scene.mesh_vertices = Vec::new();
+    scene.mesh_triangles = Vec::new();
     Bvh::new(geometry)
 }

@@ -81,10 +81,5 @@ impl Drop for AtomicOutput {
 
 /// A short description of an I/O error.
 pub fn brief(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file or directory".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        std::io::ErrorKind::IsADirectory => "is a directory".into(),
-        _ => e.to_string(),
-    }
+    nffrt::io_reason(e)
 }

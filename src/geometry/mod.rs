@@ -98,8 +98,10 @@ pub enum SourceKind {
     Cone,
     /// `pl`
     Plane,
-    /// `aabb`
+    /// `aabb` (P3F `box`)
     Box,
+    /// a triangle of a P3F `mesh`
+    Mesh,
 }
 
 /// One render-time primitive: its shape, material and provenance.

@@ -14,7 +14,7 @@ use crate::geometry::SourceKind;
 use crate::image::quantize;
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
-use crate::scene::{Material, Scene};
+use crate::scene::{Dialect, Material, Scene};
 
 /// One ray of the tree and what it saw.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,6 +89,8 @@ pub struct PixelTrace {
     pub stats: Stats,
     /// Light positions, for the printout.
     pub lights: Vec<Vec3>,
+    /// The scene's language (names the keywords in the printout).
+    pub dialect: Dialect,
 }
 
 /// Builds the tree from the recursion's events.
@@ -229,6 +231,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
         value,
         stats,
         lights: scene.lights.iter().map(|l| l.position).collect(),
+        dialect: scene.dialect,
     }
 }
 
@@ -275,14 +278,17 @@ impl fmt::Display for Weight {
     }
 }
 
-fn kind_name(k: SourceKind) -> &'static str {
+/// The primitive kind as printed, with the keyword it has in the scene's language.
+pub fn kind_name(k: SourceKind, dialect: Dialect) -> &'static str {
     match k {
         SourceKind::Sphere => "sphere (s)",
         SourceKind::Polygon => "polygon (p)",
         SourceKind::Patch => "patch (pp)",
         SourceKind::Cone => "cone (c)",
         SourceKind::Plane => "plane (pl)",
+        SourceKind::Box if dialect.is_p3f() => "box (box)",
         SourceKind::Box => "box (aabb)",
+        SourceKind::Mesh => "mesh triangle (mesh)",
     }
 }
 
@@ -297,7 +303,7 @@ impl PixelTrace {
         writeln!(
             f,
             "{pad}hit {} at line {}, t = {:.4}, {side}",
-            kind_name(h.kind),
+            kind_name(h.kind, self.dialect),
             h.line,
             h.t
         )?;
