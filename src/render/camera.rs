@@ -105,22 +105,27 @@ impl Camera {
     }
 
     /// The eye ray of sample `s` (unit direction).
-    #[inline]
+    #[inline(always)]
     pub fn ray(&self, s: &CameraSample) -> Ray {
         let (x, y) = s.raster;
         let sx = (x - self.half_width) * self.pitch;
         let sy = (self.half_height - y) * self.pitch;
         // The pinhole ray's direction, scaled so its forward component is 1.
         let through = self.forward + self.right * sx + self.up * sy;
-        match self.lens {
+        match &self.lens {
             None => Ray::new(self.origin, through.normalize()),
-            Some(lens) => {
-                let (lx, ly) = concentric_disc(s.lens);
-                let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
-                let focus = self.origin + through * lens.focal_distance;
-                Ray::new(start, (focus - start).normalize())
-            }
+            Some(lens) => self.lens_ray(lens, through, s.lens),
         }
+    }
+
+    /// The ray from lens position `lens_at` through the focal-plane point of the
+    /// pinhole ray `through`.
+    #[inline(never)]
+    fn lens_ray(&self, lens: &ThinLens, through: Vec3, lens_at: (f32, f32)) -> Ray {
+        let (lx, ly) = concentric_disc(lens_at);
+        let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
+        let focus = self.origin + through * lens.focal_distance;
+        Ray::new(start, (focus - start).normalize())
     }
 
     /// The ray through raster position `(x, y)` and the centre of the lens.

@@ -214,7 +214,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
             SampleId::single(x, y),
         ),
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
-            pixel_mean(&opts.sampling, x, y, trace_at)
+            pixel_mean(&opts.sampling.pixel_sampler(camera.has_lens()), x, y, trace_at)
         }
         Sampling::SpdCorners => {
             let (fx, fy) = (x as f32, y as f32);

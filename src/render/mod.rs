@@ -18,7 +18,7 @@ mod trace;
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
 pub use light::{LightSampling, LightSource};
-pub use sampling::{permute, sample_2d, Dim, SampleId, Sampling, Strata};
+pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
 pub use shade::{schlick, Model};
 pub use stats::Stats;
 pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
@@ -157,9 +157,10 @@ pub fn render_region(
     let pixels = match opts.sampling {
         Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
+            let sampler = opts.sampling.pixel_sampler(camera.has_lens());
             trace_rows(y0, w, h, observer, |y, st, out| {
                 for x in x0..x0 + w as u32 {
-                    out.push(pixel_mean(&opts.sampling, x, y, |sample, id| {
+                    out.push(pixel_mean(&sampler, x, y, |sample, id| {
                         tracer.trace_eye(&camera.ray(&sample), &id, st)
                     }));
                 }
@@ -193,21 +194,21 @@ pub fn spd_mean(top_left: Vec3, top_right: Vec3, bottom_left: Vec3, bottom_right
     top_left * 0.25 + top_right * 0.25 + bottom_left * 0.25 + bottom_right * 0.25
 }
 
-/// The box-filtered value of pixel `(x, y)` under `sampling` (not the SPD corners):
-/// the mean of `trace` over the pixel's samples, each weighted by `1/n` before the
-/// sum (in sample order) so that huge but finite samples cannot overflow to infinity.
+/// The box-filtered value of pixel `(x, y)` (not the SPD corners): the mean of
+/// `trace` over the pixel's samples, each weighted by `1/n` before the sum (in
+/// sample order) so that huge but finite samples cannot overflow to infinity.
 #[inline]
 pub fn pixel_mean(
-    sampling: &Sampling,
+    sampler: &PixelSampler,
     x: u32,
     y: u32,
     mut trace: impl FnMut(CameraSample, SampleId) -> Vec3,
 ) -> Vec3 {
-    let n = sampling.samples_per_pixel();
+    let n = sampler.count();
     let weight = 1.0 / n as f32;
     let mut sum = Vec3::ZERO;
     for s in 0..n {
-        let (sample, id) = sampling.eye_sample(x, y, s);
+        let (sample, id) = sampler.sample(x, y, s);
         sum += trace(sample, id) * weight;
     }
     sum

@@ -48,27 +48,17 @@ pub enum Sampling {
 }
 
 impl Sampling {
-    /// Sample `index` of pixel `(x, y)` (not for [`Sampling::SpdCorners`], whose rays
-    /// go through pixel corners): where its eye ray goes, and its id.
-    #[inline]
-    pub fn eye_sample(&self, x: u32, y: u32, index: u32) -> (CameraSample, SampleId) {
+    /// The sampler of one pixel's samples in a render (not for
+    /// [`Sampling::SpdCorners`], whose rays go through pixel corners); `lens` says
+    /// whether the camera has a lens whose position must be sampled.
+    pub fn pixel_sampler(&self, lens: bool) -> PixelSampler {
         let count = self.samples_per_pixel();
-        let stratified = !matches!(self, Sampling::Independent { .. });
-        let id = SampleId {
-            x,
-            y,
-            index,
+        PixelSampler {
+            strata: Strata::new(count),
             count,
-            stratified,
-        };
-        let raster = if stratified {
-            Strata::new(count).position(x, y, index)
-        } else {
-            let (u, v) = sample_2d(x, y, index, Dim::Pixel);
-            (x as f32 + u, y as f32 + v)
-        };
-        let lens = id.point(Dim::Lens);
-        (CameraSample { raster, lens }, id)
+            stratified: !matches!(self, Sampling::Independent { .. }),
+            lens,
+        }
     }
 
     /// Eye samples per pixel (4 corner rays shared with the neighbours for the SPD
@@ -142,6 +132,46 @@ impl Strata {
             (cx as f32 + offset.0) / self.cols as f32,
             (cy as f32 + offset.1) / self.rows as f32,
         )
+    }
+}
+
+/// The samples of a pixel under one sampling pattern, set up once per render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelSampler {
+    strata: Strata,
+    count: u32,
+    stratified: bool,
+    lens: bool,
+}
+
+impl PixelSampler {
+    /// Samples per pixel.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Sample `index` of pixel `(x, y)`: where its eye ray goes, and its id.
+    #[inline(always)]
+    pub fn sample(&self, x: u32, y: u32, index: u32) -> (CameraSample, SampleId) {
+        let id = SampleId {
+            x,
+            y,
+            index,
+            count: self.count,
+            stratified: self.stratified,
+        };
+        let raster = if self.stratified {
+            self.strata.position(x, y, index)
+        } else {
+            let (u, v) = sample_2d(x, y, index, Dim::Pixel);
+            (x as f32 + u, y as f32 + v)
+        };
+        let lens = if self.lens {
+            id.point(Dim::Lens)
+        } else {
+            (0.5, 0.5)
+        };
+        (CameraSample { raster, lens }, id)
     }
 }
 

@@ -116,11 +116,17 @@ pub struct Secondary {
 impl Model {
     /// The secondary rays of a hit on `m` by unit direction `d`, with unit normal
     /// `n` facing the ray; `entering` says whether the ray crosses into the object.
-    #[inline]
+    #[inline(always)]
     pub fn secondary(self, m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
         // Indices of refraction of 0 or less (seen on opaque materials) mean 1.
-        let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
-        let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
+        let indices = || {
+            let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
+            if entering {
+                (1.0, ior)
+            } else {
+                (ior, 1.0)
+            }
+        };
         match self {
             Model::Spd => {
                 if m.ks <= 0.0 && m.t <= 0.0 {
@@ -133,6 +139,7 @@ impl Model {
                 let mut kind = Branch::Reflection;
                 let mut refraction = None;
                 if m.t > 0.0 {
+                    let (n1, n2) = indices();
                     match refract(d, n, n1 / n2) {
                         Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
                         // Total internal reflection: the transmitted share goes to the mirror ray.
@@ -147,21 +154,24 @@ impl Model {
                     reflection: Some((kind, Vec3::splat(weight))),
                 }
             }
-            Model::P3f if m.t > 0.0 => match refract(d, n, n1 / n2) {
-                Some(dir) => {
-                    let cos_i = -d.dot(n);
-                    let cos_t = -dir.dot(n);
-                    let r = schlick(cos_i, cos_t, n1, n2);
-                    Secondary {
-                        refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
-                        reflection: Some((Branch::Reflection, m.specular * r)),
+            Model::P3f if m.t > 0.0 => {
+                let (n1, n2) = indices();
+                match refract(d, n, n1 / n2) {
+                    Some(dir) => {
+                        let cos_i = -d.dot(n);
+                        let cos_t = -dir.dot(n);
+                        let r = schlick(cos_i, cos_t, n1, n2);
+                        Secondary {
+                            refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
+                            reflection: Some((Branch::Reflection, m.specular * r)),
+                        }
                     }
+                    None => Secondary {
+                        refraction: None,
+                        reflection: Some((Branch::TotalInternalReflection, m.specular)),
+                    },
                 }
-                None => Secondary {
-                    refraction: None,
-                    reflection: Some((Branch::TotalInternalReflection, m.specular)),
-                },
-            },
+            }
             Model::P3f => Secondary {
                 refraction: None,
                 reflection: (m.ks > 0.0).then_some((Branch::Reflection, m.specular * m.ks)),

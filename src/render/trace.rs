@@ -15,14 +15,10 @@ use std::cell::Cell;
 
 pub use super::shade::Branch;
 use crate::accel::{Bvh, NO_HINT, PACKET};
-use crate::geometry::{Hit, Primitive};
+use crate::geometry::{point_error, Hit, Primitive};
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
-
-/// Secondary-ray origins are pushed off the surface by this fraction of the
-/// magnitude of the coordinates involved (see [`offset_scale`]).
-const OFFSET_REL: f32 = 4e-6;
 
 /// Everything needed to trace rays through one scene.
 pub struct Tracer<'a> {
@@ -127,14 +123,6 @@ thread_local! {
 /// Empties this thread's shadow cache (call before each independent unit of work).
 pub fn reset_shadow_cache() {
     SHADOW_HINTS.with(|hints| hints.iter().for_each(|h| h.set(NO_HINT)));
-}
-
-/// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
-/// at distance `t`: proportional to the floating-point error of `p = o + t d`, so it
-/// works for tiny and huge scenes alike (no global epsilon).
-#[inline]
-fn offset_scale(p: Vec3, ray: &Ray, t: f32) -> f32 {
-    OFFSET_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
 }
 
 /// An eye ray's colour for the image: a NaN or infinity never reaches it (black).
@@ -254,8 +242,14 @@ impl<'a> Tracer<'a> {
         } else {
             (-surface.normal, -surface.shading_normal)
         };
-        let eps = offset_scale(p, ray, hit.t);
-        let above = p + n * eps;
+        // Secondary rays start off the surface by the point's error bound, on the
+        // ray's side (shadow and mirror rays) or the far side (refracted rays).
+        let offset = prim.origin_offset(&surface, point_error(p, ray, hit.t));
+        let (above, below) = if entering {
+            (p + offset, p - offset)
+        } else {
+            (p - offset, p + offset)
+        };
         let diffuse = m.color * m.kd;
         let mut color = self.lighting.ambient.mul_elem(diffuse);
         if R::ENABLED {
@@ -271,17 +265,37 @@ impl<'a> Tracer<'a> {
             };
             rec.hit(ray, &record);
         }
-        let at = Lit {
-            m,
-            diffuse,
-            above,
-            n,
-            ns,
-            view: -ray.dir,
-            depth,
-        };
+        let view = -ray.dir;
         for (k, light) in self.lighting.lights.iter().enumerate() {
-            color += self.light(k, light, &at, id, stats, rec);
+            if light.area.is_some() {
+                let at = Lit {
+                    m,
+                    diffuse,
+                    above,
+                    n,
+                    ns,
+                    view,
+                    depth,
+                };
+                color += self.area_light(k, light, &at, id, stats, rec);
+                continue;
+            }
+            let at = Lit {
+                m,
+                diffuse,
+                above,
+                n,
+                ns,
+                view,
+                depth,
+            };
+            let outcome = self.light_point(k, light.position, light.intensity, at, stats);
+            if R::ENABLED {
+                rec.light(k, outcome);
+            }
+            if let LightOutcome::Lit(c) = outcome {
+                color += c;
+            }
         }
 
         if depth >= self.max_depth {
@@ -293,7 +307,6 @@ impl<'a> Tracer<'a> {
         let secondary = self.lighting.model.secondary(m, ray.dir, n, entering);
         if let Some((dir, weight)) = secondary.refraction {
             stats.refraction_rays += 1;
-            let below = p - n * eps;
             if R::ENABLED {
                 rec.branch(Branch::Refraction, weight);
             }
@@ -315,10 +328,9 @@ impl<'a> Tracer<'a> {
         color
     }
 
-    /// The contribution of light `k` at a hit: its points' shadow rays (the SPD's
-    /// rule: none towards a point behind the surface) and local terms.
-    #[inline]
-    fn light<R: Recorder>(
+    /// The contribution of area light `k` at a hit: its points' shadow rays and
+    /// local terms, each point with its share of the intensity.
+    fn area_light<R: Recorder>(
         &self,
         k: usize,
         light: &LightSource,
@@ -327,64 +339,64 @@ impl<'a> Tracer<'a> {
         stats: &mut Stats,
         rec: &mut R,
     ) -> Vec3 {
+        let share = light.intensity * (1.0 / light.point_count(&self.light_sampling, id) as f32);
         let mut area = AreaOutcome::default();
-        let mut sum = Vec3::ZERO;
-        let slot = k * HINT_DEPTHS + (at.depth as usize - 1);
-        let hinted = k < HINT_LIGHTS && (at.depth as usize) <= HINT_DEPTHS;
-        let mut point_outcome = LightOutcome::Behind;
-        // Each point of an area light carries its share of the intensity.
-        let intensity = match light.area {
-            None => light.intensity,
-            Some(_) => light.intensity * (1.0 / light.point_count(&self.light_sampling, id) as f32),
-        };
         let count = light.sample_points(&self.light_sampling, id, k, at.depth, |point| {
-            let to_light = point - at.above;
-            let outcome = if at.n.dot(to_light) <= 0.0 {
-                area.behind += 1;
-                LightOutcome::Behind
-            } else {
-                stats.shadow_rays += 1;
-                // Aimed at the light unnormalized, blockers sought below t = 1: the
-                // ray's reciprocal direction then no longer waits on a square root and
-                // a division (the longest chain in setting up a shadow ray); the
-                // intersection tests do not need unit directions.
-                let shadow_ray = Ray::new(at.above, to_light);
-                let blocked = if hinted {
-                    SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, 1.0, &hints[slot]))
-                } else {
-                    self.bvh.occluded(&shadow_ray, 1.0)
-                };
-                if blocked {
-                    stats.shadow_blocked += 1;
-                    area.shadowed += 1;
-                    LightOutcome::Shadowed
-                } else {
-                    let l = to_light / to_light.length();
-                    let c = local(at.m, at.diffuse, at.ns, l, at.view);
-                    let c = intensity.mul_elem(c);
-                    sum += c;
-                    LightOutcome::Lit(c)
-                }
-            };
-            if R::ENABLED && light.area.is_some() {
+            let outcome = self.light_point(k, point, share, *at, stats);
+            match outcome {
+                LightOutcome::Behind => area.behind += 1,
+                LightOutcome::Shadowed => area.shadowed += 1,
+                LightOutcome::Lit(c) => area.contribution += c,
+            }
+            if R::ENABLED {
                 rec.light_sample(k, point, outcome);
             }
-            point_outcome = outcome;
         });
         if R::ENABLED {
-            if light.area.is_some() {
-                area.samples = count;
-                area.contribution = sum;
-                rec.area_light(k, area);
-            } else {
-                rec.light(k, point_outcome);
-            }
+            area.samples = count;
+            rec.area_light(k, area);
         }
-        sum
+        area.contribution
+    }
+
+    /// One point of light `k`, of the given intensity, seen from a hit: behind the
+    /// surface (no shadow ray), shadowed, or its local term.
+    #[inline(always)]
+    fn light_point(
+        &self,
+        k: usize,
+        point: Vec3,
+        intensity: Vec3,
+        at: Lit,
+        stats: &mut Stats,
+    ) -> LightOutcome {
+        let to_light = point - at.above;
+        if at.n.dot(to_light) <= 0.0 {
+            return LightOutcome::Behind;
+        }
+        stats.shadow_rays += 1;
+        // Aimed at the light unnormalized, blockers sought below t = 1: the ray's
+        // reciprocal direction then no longer waits on a square root and a division
+        // (the longest chain in setting up a shadow ray); the intersection tests do
+        // not need unit directions.
+        let shadow_ray = Ray::new(at.above, to_light);
+        let blocked = if k < HINT_LIGHTS && (at.depth as usize) <= HINT_DEPTHS {
+            let slot = k * HINT_DEPTHS + (at.depth as usize - 1);
+            SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, 1.0, &hints[slot]))
+        } else {
+            self.bvh.occluded(&shadow_ray, 1.0)
+        };
+        if blocked {
+            stats.shadow_blocked += 1;
+            return LightOutcome::Shadowed;
+        }
+        let l = to_light / to_light.length();
+        LightOutcome::Lit(intensity.mul_elem(local(at.m, at.diffuse, at.ns, l, at.view)))
     }
 }
 
 /// What the lights see of one hit.
+#[derive(Clone, Copy)]
 struct Lit<'m> {
     m: &'m Material,
     /// `Kd * C`.
