@@ -22,6 +22,7 @@ mod error;
 mod lexer;
 mod limits;
 mod parser;
+mod text;
 mod writer;
 
 pub use error::{ParseError, ParseErrorKind};

@@ -6,6 +6,7 @@ use super::chunks;
 use super::error::{ParseError, ParseErrorKind};
 use super::lexer::{Lexer, Token};
 use super::limits::{Limits, MAX_WARNINGS};
+use super::text;
 use crate::math::Vec3;
 use crate::scene::{Material, Scene, Warning};
 
@@ -34,7 +35,9 @@ pub fn parse_bytes(src: &[u8]) -> Result<Scene, ParseError> {
 /// (at the first primitive, vertex or light past the limit). Files of a megabyte or
 /// more are parsed in pieces on the current rayon pool's threads when they split
 /// cleanly (see `chunks.rs`); the scene, warnings and errors are the same either way.
+/// A leading UTF-8 byte-order mark is skipped and binary data refused (see `text.rs`).
 pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
+    let src = text::scene_text(src)?;
     match chunks::parse_in_parallel(src, limits) {
         Some(scene) => Ok(scene),
         None => parse_in_one_pass(src, limits),
