@@ -19,18 +19,36 @@ pub struct LoadedScene {
     pub name: String,
     /// Seconds spent parsing (reading excluded).
     pub parse_s: f64,
+    /// The scene's fingerprint ([`nffrt::fingerprint::scene_fingerprint`]), if asked for.
+    pub fingerprint: Option<u64>,
+}
+
+/// Whether to fingerprint the scene as it is read (tiles record it; it costs about a
+/// millisecond per megabyte).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fingerprint {
+    /// No fingerprint.
+    None,
+    /// The scene's fingerprint.
+    Scene,
 }
 
 /// Reads and parses `path` (`-` is standard input) within `limits`: a file larger than
 /// `--max-scene-bytes` is refused before it is read. Parse errors come back as
 /// `PATH:LINE:COL: message` with the bad-scene exit code.
-pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
+pub fn load_scene_with(
+    path: &Path,
+    limits: &SceneLimitArgs,
+    fingerprint: Fingerprint,
+) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
         path.display().to_string()
     };
     let bytes = read_input(path, &name, limits.max_scene_bytes)?;
+    let fingerprint =
+        (fingerprint == Fingerprint::Scene).then(|| nffrt::fingerprint::scene_fingerprint(&bytes));
     let t0 = Instant::now();
     let scene = nffrt::nff::parse_bytes_with(&bytes, &limits.parse_limits())
         .map_err(|e| CliError::scene(format!("{name}:{}:{}: {}", e.line, e.column, e.kind)))?;
@@ -38,6 +56,7 @@ pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedSce
         scene,
         name,
         parse_s: t0.elapsed().as_secs_f64(),
+        fingerprint,
     })
 }
 
