@@ -6,7 +6,7 @@
 //! the images it names);
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
-//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes at any size.
+//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes, at sizes up to 10 million primitives.
 //! [`render::render_region`] traces a crop with exactly the full render's pixels,
 //! and [`image::tiles`] assembles such crops; [`render::debug::trace_pixel`] keeps
 //! the ray tree of one pixel.
@@ -27,6 +27,7 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod fingerprint;
 pub mod gen;
 pub mod geometry;
 pub mod image;

@@ -5,6 +5,7 @@
 
 use clap::Args;
 
+use super::values::whole_number;
 use super::CliError;
 use nffrt::nff::{Format, Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
 use nffrt::render::Sampling;
@@ -23,16 +24,20 @@ pub struct SceneLimitArgs {
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub format: Option<FormatArg>,
     /// Refuse scene files larger than N bytes.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SCENE_BYTES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SCENE_BYTES,
+          allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_scene_bytes: u64,
     /// Refuse scenes with more than N primitives.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PRIMITIVES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PRIMITIVES,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_primitives: usize,
     /// Refuse scenes with more than N polygon, patch and mesh vertices in all.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_vertices: usize,
     /// Refuse scenes with more than N lights.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_LIGHTS)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_LIGHTS,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_lights: usize,
 }
 
@@ -84,7 +89,8 @@ pub struct RenderLimitArgs {
     #[command(flatten)]
     pub scene: SceneLimitArgs,
     /// Refuse to render more than N pixels (counting the (w+1) x (h+1) corners with --spd).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS,
+          allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_pixels: u64,
 }
 

@@ -21,6 +21,18 @@ pub struct LoadedScene {
     pub name: String,
     /// Seconds spent parsing (reading excluded).
     pub parse_s: f64,
+    /// The scene's fingerprint ([`nffrt::fingerprint::scene_fingerprint`]), if asked for.
+    pub fingerprint: Option<u64>,
+}
+
+/// Whether to fingerprint the scene as it is read (tiles record it; it costs about a
+/// millisecond per megabyte).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fingerprint {
+    /// No fingerprint.
+    None,
+    /// The scene's fingerprint.
+    Scene,
 }
 
 /// Reads and parses `path` (`-` is standard input) within `limits`, in the format of
@@ -29,7 +41,11 @@ pub struct LoadedScene {
 /// input): a file larger than `--max-scene-bytes` is refused before it is read.
 /// Parse errors come back as `PATH:LINE:COL: message` with the bad-scene exit
 /// code; a missing or corrupt skybox image with the I/O exit code, naming it.
-pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
+pub fn load_scene_with(
+    path: &Path,
+    limits: &SceneLimitArgs,
+    fingerprint: Fingerprint,
+) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
@@ -47,11 +63,35 @@ pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedSce
         LoadError::Parse { .. } => CliError::scene(e.to_string()),
         LoadError::Io { .. } | LoadError::Asset { .. } => CliError::io(e.to_string()),
     })?;
+    let parse_s = t0.elapsed().as_secs_f64();
+    let fingerprint = (fingerprint == Fingerprint::Scene).then(|| scene_fingerprint(&bytes, &scene));
     Ok(LoadedScene {
         scene,
         name,
-        parse_s: t0.elapsed().as_secs_f64(),
+        parse_s,
+        fingerprint,
     })
+}
+
+/// The fingerprint of a loaded scene: its file's bytes and, for a skybox, the size
+/// and pixels of each face.
+fn scene_fingerprint(bytes: &[u8], scene: &Scene) -> u64 {
+    let sky = scene.environment.as_ref().and_then(|e| e.skybox.as_deref());
+    let sizes: Vec<[u8; 8]> = sky
+        .map(|s| s.faces.iter().map(|f| pack(f.width, f.height)).collect())
+        .unwrap_or_default();
+    let mut named: Vec<&[u8]> = Vec::new();
+    if let Some(s) = sky {
+        for (face, size) in s.faces.iter().zip(&sizes) {
+            named.push(size);
+            named.push(&face.rgb);
+        }
+    }
+    nffrt::fingerprint::scene_fingerprint_with(bytes, &named)
+}
+
+fn pack(width: u32, height: u32) -> [u8; 8] {
+    ((width as u64) << 32 | height as u64).to_le_bytes()
 }
 
 /// Reads at most `max_bytes` (one more byte means the input is too large, whatever

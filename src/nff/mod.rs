@@ -24,6 +24,7 @@ mod lexer;
 mod limits;
 mod p3f;
 mod parser;
+mod text;
 mod writer;
 
 pub use error::{ParseError, ParseErrorKind};

@@ -9,6 +9,7 @@ use super::error::{ParseError, ParseErrorKind};
 use super::keywords;
 use super::lexer::{Lexer, Token};
 use super::limits::{Limits, MAX_WARNINGS};
+use super::text;
 use super::Format;
 use crate::math::Vec3;
 use crate::scene::{AngleSpan, Dialect, Material, Scene, Warning};
@@ -38,6 +39,7 @@ pub fn parse_bytes(src: &[u8]) -> Result<Scene, ParseError> {
 /// (at the first primitive, vertex or light past the limit). Files of a megabyte or
 /// more are parsed in pieces on the current rayon pool's threads when they split
 /// cleanly (see `chunks.rs`); the scene, warnings and errors are the same either way.
+/// A leading UTF-8 byte-order mark is skipped and binary data refused (see `text.rs`).
 pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
     parse_format(src, Format::Nff, limits)
 }
@@ -46,6 +48,7 @@ pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError
 /// [`parse_bytes_with`]; P3F files are always parsed in one pass). A file without a
 /// single entity is an error.
 pub fn parse_format(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
+    let src = text::scene_text(src)?;
     let parallel = match format {
         Format::Nff => chunks::parse_in_parallel(src, limits),
         Format::P3f => None,
