@@ -52,4 +52,4 @@ impl Format {
         }
     }
 }
-pub use writer::write_nff;
+pub use writer::{view_block, write_nff, write_p3f, write_scene};

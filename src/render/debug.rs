@@ -27,6 +27,8 @@ pub struct RayNode {
     pub hit: Option<HitNode>,
     /// The colour this ray returns (the background for a miss).
     pub color: Vec3,
+    /// For a miss under a skybox, the face and texel it saw.
+    pub sky: Option<SkyTexel>,
 }
 
 /// A surface hit of a [`RayNode`].
@@ -82,7 +84,9 @@ pub struct PixelTrace {
     /// The options the pixel was traced with.
     pub opts: RenderOptions,
     /// Each eye ray: its raster position and tree.
-    pub samples: Vec<((f32, f32), RayNode)>,
+    pub samples: Vec<(CameraSample, RayNode)>,
+    /// True if the camera has a lens (the lens positions are printed).
+    pub lens: bool,
     /// The pixel's linear value, identical to the rendered one.
     pub value: Vec3,
     /// Ray counts of this pixel.
@@ -128,8 +132,9 @@ impl TreeRecorder<'_> {
 }
 
 impl Recorder for TreeRecorder<'_> {
-    fn miss(&mut self, ray: &Ray, background: Vec3, _texel: Option<SkyTexel>) {
+    fn miss(&mut self, ray: &Ray, background: Vec3, texel: Option<SkyTexel>) {
         let node = RayNode {
+            sky: texel,
             origin: ray.origin,
             dir: ray.dir,
             hit: None,
@@ -142,6 +147,7 @@ impl Recorder for TreeRecorder<'_> {
     fn hit(&mut self, ray: &Ray, h: &HitRecord) {
         let m = h.primitive.material;
         let node = RayNode {
+            sky: None,
             origin: ray.origin,
             dir: ray.dir,
             hit: Some(HitNode {
@@ -205,7 +211,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
             root: None,
         };
         let c = tracer.trace_eye_recorded(&camera.ray(&sample), &id, &mut stats, &mut rec);
-        samples.push((sample.raster, rec.root.expect("every eye ray records a tree")));
+        samples.push((sample, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
@@ -228,6 +234,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
         y,
         opts: *opts,
         samples,
+        lens: camera.has_lens(),
         value,
         stats,
         lights: scene.lights.iter().map(|l| l.position).collect(),
@@ -297,7 +304,17 @@ impl PixelTrace {
         let pad = "  ".repeat(indent);
         writeln!(f, "{pad}ray from {} dir {}", V(node.origin), V(node.dir))?;
         let Some(h) = &node.hit else {
-            return writeln!(f, "{pad}miss: background {}", V(node.color));
+            return match node.sky {
+                Some(t) => writeln!(
+                    f,
+                    "{pad}miss: skybox face {}, texel ({}, {}) from its bottom-left: {}",
+                    t.face.name(),
+                    t.column,
+                    t.row,
+                    V(node.color)
+                ),
+                None => writeln!(f, "{pad}miss: background {}", V(node.color)),
+            };
         };
         let side = if h.entering { "entering" } else { "leaving" };
         writeln!(
@@ -312,9 +329,14 @@ impl PixelTrace {
             writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
         }
         let (mi, m) = &h.material;
+        let specular = if self.dialect.is_p3f() {
+            format!(" specular {}", V(m.specular))
+        } else {
+            String::new()
+        };
         writeln!(
             f,
-            "{pad}  material #{mi}: colour {} Kd {} Ks {} shine {} T {} ior {}",
+            "{pad}  material #{mi}: colour {} Kd {}{specular} Ks {} shine {} T {} ior {}",
             V(m.color),
             m.kd,
             m.ks,
@@ -370,8 +392,18 @@ impl fmt::Display for PixelTrace {
             self.x, self.y, self.opts.width, self.opts.height, self.opts.sampling, self.opts.max_depth
         )?;
         let n = self.samples.len();
-        for (k, ((px, py), node)) in self.samples.iter().enumerate() {
-            writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+        for (k, (sample, node)) in self.samples.iter().enumerate() {
+            let (px, py) = sample.raster;
+            if self.lens {
+                let (u, v) = sample.lens;
+                writeln!(
+                    f,
+                    "eye ray {} of {n} through raster ({px}, {py}), lens ({u}, {v}):",
+                    k + 1
+                )?;
+            } else {
+                writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+            }
             self.write_node(f, node, 1)?;
         }
         let v = self.value;

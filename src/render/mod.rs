@@ -17,7 +17,7 @@ mod trace;
 
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
-pub use light::{LightSampling, LightSource};
+pub use light::{LightQuad, LightSampling, LightSource};
 pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
 pub use shade::{schlick, Model};
 pub use stats::Stats;
