@@ -19,7 +19,7 @@ pub use background::Background;
 pub use camera::{Camera, CameraSample};
 pub use light::{LightQuad, LightSampling, LightSource};
 pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
-pub use shade::{schlick, Model};
+pub use shade::{schlick, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
