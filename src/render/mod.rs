@@ -82,10 +82,16 @@ impl RenderOptions {
 /// The default maximum ray depth (the SPD's).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
 
-/// Watches a render as it runs: progress reports and cancellation.
+/// Watches a render as it runs: progress reports, the finished pixels, cancellation.
+/// Rows finish in any order and on any of the render's threads.
 pub trait Observer: Sync {
     /// Called after each finished row of eye rays, with the rays that row traced.
     fn row_done(&self, _rays: u64) {}
+    /// Called with each finished row of the image: row `y` (absolute) and its
+    /// pixels, the rendered region's columns in order, exactly the values the
+    /// image will hold (for [`Sampling::SpdCorners`], once the corners around it
+    /// are traced).
+    fn row_pixels(&self, _y: u32, _pixels: &[Vec3]) {}
     /// Polled between rows: returning true abandons the render.
     fn cancelled(&self) -> bool {
         false
@@ -155,9 +161,11 @@ pub fn render_region(
         tracer.trace_eye_row(&rays, (x0, y), st, out);
     };
     let pixels = match opts.sampling {
-        Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
+        Sampling::PixelCenters => {
+            trace_rows(y0, w, h, observer, true, |y, st, out| eye_row(0.5, w, y, st, out))
+        }
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
-            trace_rows(y0, w, h, observer, |y, st, out| {
+            trace_rows(y0, w, h, observer, true, |y, st, out| {
                 for x in x0..x0 + w as u32 {
                     out.push(pixel_mean(&opts.sampling, x, y, |sample, id| {
                         tracer.trace_eye(&camera.ray(&sample), &id, st)
@@ -168,7 +176,7 @@ pub fn render_region(
         Sampling::SpdCorners => {
             // Corner (i, j) is the raster point (i, j): the region's pixels need the
             // corners x0..=x1, y0..=y1, the same rays the full render traces there.
-            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, |y, st, out| {
+            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, false, |y, st, out| {
                 eye_row(0.0, w + 1, y, st, out)
             })?;
             let mut pixels = vec![Vec3::ZERO; w * h];
@@ -177,6 +185,7 @@ pub fn render_region(
                 for (i, p) in row.iter_mut().enumerate() {
                     *p = spd_mean(top[i], top[i + 1], bottom[i], bottom[i + 1]);
                 }
+                observer.row_pixels(y0 + j as u32, row);
             });
             Some((pixels, stats))
         }
@@ -214,7 +223,9 @@ pub fn pixel_mean(
 }
 
 /// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
-/// (which appends `cols` values to `out`), rows in parallel, assembled in order.
+/// (which appends `cols` values to `out`), rows in parallel, assembled in order;
+/// each row goes to [`Observer::row_pixels`] if `pixels` (rows of the image, not
+/// of SPD corners).
 ///
 /// Every row is a task of its own that an idle thread can steal: rayon's default
 /// splitting stops once each thread holds a few long runs of rows, and where rows
@@ -225,6 +236,7 @@ fn trace_rows(
     cols: usize,
     rows: usize,
     observer: &dyn Observer,
+    pixels: bool,
     row: impl Fn(u32, &mut Stats, &mut Vec<Vec3>) + Sync,
 ) -> Option<(Vec<Vec3>, Stats)> {
     // Each task copies its row into place, so no thread assembles the image alone.
@@ -242,6 +254,9 @@ fn trace_rows(
             let mut values = Vec::with_capacity(cols);
             row(y0 + j as u32, &mut stats, &mut values);
             place.copy_from_slice(&values);
+            if pixels {
+                observer.row_pixels(y0 + j as u32, &values);
+            }
             observer.row_done(stats.total_rays());
             Some(stats)
         })
