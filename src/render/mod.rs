@@ -10,6 +10,7 @@ mod background;
 mod camera;
 pub mod debug;
 mod light;
+mod progressive;
 mod sampling;
 mod shade;
 mod stats;
@@ -18,6 +19,7 @@ mod trace;
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
 pub use light::{LightSampling, LightSource};
+pub use progressive::{render_preview, Accumulator};
 pub use sampling::{permute, sample_2d, Dim, SampleId, Sampling, Strata};
 pub use shade::{schlick, Model};
 pub use stats::Stats;
@@ -223,14 +225,9 @@ pub fn pixel_mean(
 }
 
 /// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
-/// (which appends `cols` values to `out`), rows in parallel, assembled in order;
-/// each row goes to [`Observer::row_pixels`] if `pixels` (rows of the image, not
-/// of SPD corners).
-///
-/// Every row is a task of its own that an idle thread can steal: rayon's default
-/// splitting stops once each thread holds a few long runs of rows, and where rows
-/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
-/// then worked alone through the end of the image, a third of the render.
+/// (which appends `cols` values to `out`), rows in parallel ([`each_row`]),
+/// assembled in order; each row goes to [`Observer::row_pixels`] if `pixels` (rows
+/// of the image, not of SPD corners).
 fn trace_rows(
     y0: u32,
     cols: usize,
@@ -241,7 +238,33 @@ fn trace_rows(
 ) -> Option<(Vec<Vec3>, Stats)> {
     // Each task copies its row into place, so no thread assembles the image alone.
     let mut out = vec![Vec3::ZERO; cols * rows];
-    let per_row: Option<Vec<Stats>> = out
+    let stats = each_row(&mut out, cols, observer, |j, place, stats| {
+        let mut values = Vec::with_capacity(cols);
+        row(y0 + j, stats, &mut values);
+        place.copy_from_slice(&values);
+        if pixels {
+            observer.row_pixels(y0 + j, &values);
+        }
+    })?;
+    Some((out, stats))
+}
+
+/// Runs `row(j, place, stats)` on each row `j` of `pixels` (rows of `cols`) in
+/// parallel, each writing its row in place with an empty shadow cache; reports
+/// each row's rays to the observer and sums the counts. `None` once the observer
+/// cancels (rows not started then are left as they were).
+///
+/// Every row is a task of its own that an idle thread can steal: rayon's default
+/// splitting stops once each thread holds a few long runs of rows, and where rows
+/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
+/// then worked alone through the end of the image, a third of the render.
+fn each_row(
+    pixels: &mut [Vec3],
+    cols: usize,
+    observer: &dyn Observer,
+    row: impl Fn(u32, &mut [Vec3], &mut Stats) + Sync,
+) -> Option<Stats> {
+    let per_row: Option<Vec<Stats>> = pixels
         .par_chunks_mut(cols)
         .enumerate()
         .with_max_len(1)
@@ -251,12 +274,7 @@ fn trace_rows(
             }
             let mut stats = Stats::default();
             trace::reset_shadow_cache();
-            let mut values = Vec::with_capacity(cols);
-            row(y0 + j as u32, &mut stats, &mut values);
-            place.copy_from_slice(&values);
-            if pixels {
-                observer.row_pixels(y0 + j as u32, &values);
-            }
+            row(j as u32, place, &mut stats);
             observer.row_done(stats.total_rays());
             Some(stats)
         })
@@ -265,5 +283,5 @@ fn trace_rows(
     for s in per_row? {
         stats += s;
     }
-    Some((out, stats))
+    Some(stats)
 }
