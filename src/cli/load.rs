@@ -2,6 +2,7 @@
 
 use std::io::Read;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::limits::SceneLimitArgs;
@@ -9,7 +10,7 @@ use super::output::brief;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
-use nffrt::load::{load_bytes, LoadError};
+use nffrt::load::{load_bytes_cancellable, LoadError};
 use nffrt::nff::Format;
 use nffrt::Scene;
 
@@ -30,6 +31,17 @@ pub struct LoadedScene {
 /// Parse errors come back as `PATH:LINE:COL: message` with the bad-scene exit
 /// code; a missing or corrupt skybox image with the I/O exit code, naming it.
 pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
+    static NEVER: AtomicBool = AtomicBool::new(false);
+    load_scene_cancellable(path, limits, &NEVER)
+}
+
+/// [`load_scene_with`] that gives up soon after `cancel` is raised (an I/O error
+/// saying `loading cancelled`).
+pub fn load_scene_cancellable(
+    path: &Path,
+    limits: &SceneLimitArgs,
+    cancel: &AtomicBool,
+) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
@@ -43,9 +55,9 @@ pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedSce
         .map(Format::from)
         .unwrap_or_else(|| Format::of_path(path));
     let dir = if stdin { None } else { path.parent() };
-    let scene = load_bytes(&bytes, format, &name, dir, &limits.parse_limits()).map_err(|e| match e {
+    let scene = load_bytes_cancellable(&bytes, format, &name, dir, &limits.parse_limits(), cancel).map_err(|e| match e {
         LoadError::Parse { .. } => CliError::scene(e.to_string()),
-        LoadError::Io { .. } | LoadError::Asset { .. } => CliError::io(e.to_string()),
+        LoadError::Io { .. } | LoadError::Asset { .. } | LoadError::Cancelled => CliError::io(e.to_string()),
     })?;
     Ok(LoadedScene {
         scene,
