@@ -55,10 +55,15 @@ pub fn load_scene_cancellable(
         .map(Format::from)
         .unwrap_or_else(|| Format::of_path(path));
     let dir = if stdin { None } else { path.parent() };
-    let scene = load_bytes_cancellable(&bytes, format, &name, dir, &limits.parse_limits(), cancel).map_err(|e| match e {
-        LoadError::Parse { .. } => CliError::scene(e.to_string()),
-        LoadError::Io { .. } | LoadError::Asset { .. } | LoadError::Cancelled => CliError::io(e.to_string()),
-    })?;
+    let scene =
+        load_bytes_cancellable(&bytes, format, &name, dir, &limits.parse_limits(), cancel).map_err(|e| {
+            match e {
+                LoadError::Parse { .. } => CliError::scene(e.to_string()),
+                LoadError::Io { .. } | LoadError::Asset { .. } | LoadError::Cancelled => {
+                    CliError::io(e.to_string())
+                }
+            }
+        })?;
     Ok(LoadedScene {
         scene,
         name,
