@@ -36,6 +36,8 @@ const rotate = (v, k, angle) => {
 };
 const vec = (v) => (v && 'x' in v ? [v.x, v.y, v.z] : v);
 const fmt = (v) => '(' + vec(v).map((x) => (x + 0).toFixed(4)).join(', ') + ')';
+// A material number as written (f32 values arrive widened to f64).
+const num = (x) => Number(x.toPrecision(7));
 
 // --- connection ----------------------------------------------------------
 function connect() {
@@ -332,7 +334,7 @@ function rayNode(node, kinds, lights, title) {
   if (h) {
     fact(`point ${fmt(h.point)} normal ${fmt(h.normal)}`);
     const [index, m] = h.material;
-    fact(`material #${index}: colour ${fmt(m.color)} Kd ${m.kd} Ks ${m.ks} shine ${m.shine} T ${m.t} ior ${m.ior}`);
+    fact(`material #${index}: colour ${fmt(m.color)} Kd ${num(m.kd)} Ks ${num(m.ks)} shine ${num(m.shine)} T ${num(m.t)} ior ${num(m.ior)}`);
     fact(`ambient ${fmt(h.ambient)}`);
     h.lights.forEach((rec, k) => {
       const at = lights[k] ? ' at ' + fmt(lights[k]) : '';
@@ -347,7 +349,7 @@ function rayNode(node, kinds, lights, title) {
     for (const [kind, weight, child] of h.children) {
       const w = vec(weight);
       const name = kind === 'Refraction' ? 'refraction' : kind === 'Reflection' ? 'reflection' : 'reflection (total internal reflection)';
-      box.append(rayNode(child, kinds, lights, `${name}, weight ${w[0] === w[1] && w[1] === w[2] ? w[0] : fmt(w)}`));
+      box.append(rayNode(child, kinds, lights, `${name}, weight ${w[0] === w[1] && w[1] === w[2] ? num(w[0]) : fmt(w)}`));
     }
     fact(`= colour ${fmt(node.color)}`, 'value');
   }
@@ -364,7 +366,7 @@ function showTree(msg) {
     el('div', 'fact', `rays: ${t.stats.eye_rays} eye, ${t.stats.reflection_rays} reflection, ${t.stats.refraction_rays} refraction, ${t.stats.shadow_rays} shadow (${t.stats.shadow_blocked} blocked)`),
   );
   t.samples.forEach(([raster, node], k) => {
-    tree.append(rayNode(node, msg.kinds, t.lights, `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0]}, ${raster[1]})`));
+    tree.append(rayNode(node, msg.kinds, t.lights, `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0].toFixed(3)}, ${raster[1].toFixed(3)})`));
   });
   $('tree-hint').hidden = true;
   lastTree = msg;
@@ -372,7 +374,9 @@ function showTree(msg) {
   body.dataset.trees = Number(body.dataset.trees) + 1;
 }
 
-// Draws the last ray tree's rays over the picture, projected with its camera.
+// Draws the last ray tree's rays over the picture, projected with its camera:
+// segments between hits (cut at the camera plane), dashed shadow rays to point
+// lights (green lit, red blocked), a ring at the clicked pixel.
 function drawRays() {
   octx.clearRect(0, 0, overlay.width, overlay.height);
   const msg = lastTree;
@@ -381,12 +385,19 @@ function drawRays() {
   const { f, r, u } = frame(c);
   const spans = msg.angle_spans_edges ? H : Math.max(H, 2) - 1;
   const pitch = (2 * Math.tan((c.angle * Math.PI) / 360)) / spans;
+  const near = 1e-4 * len(sub(c.at, c.from));
+  const depth = (p) => dot(sub(p, c.from), f);
   const project = (p) => {
     const d = sub(p, c.from), z = dot(d, f);
-    return z > 1e-6 ? [W / 2 + dot(d, r) / z / pitch, H / 2 - dot(d, u) / z / pitch] : null;
+    return [W / 2 + dot(d, r) / z / pitch, H / 2 - dot(d, u) / z / pitch];
   };
-  const line = (a, b, colour, dash) => {
-    if (!a || !b) return;
+  // The segment p-q in world space, the part in front of the camera.
+  const segment = (p, q, colour, dash) => {
+    let [zp, zq] = [depth(p), depth(q)];
+    if (zp < near && zq < near) return;
+    if (zp < near) [p, q, zp, zq] = [q, p, zq, zp];
+    if (zq < near) q = add(p, mul(sub(q, p), (zp - near) / (zp - zq)));
+    const [a, b] = [project(p), project(q)];
     octx.strokeStyle = colour;
     octx.setLineDash(dash || []);
     octx.beginPath();
@@ -395,19 +406,27 @@ function drawRays() {
     octx.stroke();
   };
   const far = len(sub(c.at, c.from)) * 1e3;
-  const walk = (node, start, colour) => {
-    const end = node.hit ? vec(node.hit.point) : add(vec(node.origin), mul(vec(node.dir), far));
-    const a = start || project(vec(node.origin)), b = project(end);
-    line(a, b, colour);
+  const walk = (node, colour) => {
+    const origin = vec(node.origin);
+    const end = node.hit ? vec(node.hit.point) : add(origin, mul(vec(node.dir), far));
+    segment(origin, end, colour);
     if (!node.hit) return;
     node.hit.lights.forEach((rec, k) => {
-      if (rec.Point === undefined || rec.Point === 'Behind' || !msg.trace.lights[k]) return;
-      line(b, project(vec(msg.trace.lights[k])), rec.Point === 'Shadowed' ? '#ff8a80' : '#a5d6a7', [3, 3]);
+      const light = msg.trace.lights[k];
+      if (rec.Point === undefined || rec.Point === 'Behind' || !light) return;
+      segment(end, vec(light), rec.Point === 'Shadowed' ? '#ff8a80' : '#a5d6a7', [3, 3]);
     });
-    for (const [kind, , child] of node.hit.children) walk(child, b, kind === 'Refraction' ? '#e040fb' : '#4dd0e1');
+    for (const [kind, , child] of node.hit.children) walk(child, kind === 'Refraction' ? '#e040fb' : '#4dd0e1');
   };
-  octx.lineWidth = 1.5;
-  for (const [raster, node] of msg.trace.samples) walk(node, raster, '#ffd54f');
+  octx.lineWidth = Math.max(1.5, W / 400);
+  for (const [raster, node] of msg.trace.samples) {
+    walk(node, '#ffd54f');
+    octx.setLineDash([]);
+    octx.strokeStyle = '#ffd54f';
+    octx.beginPath();
+    octx.arc(raster[0], raster[1], Math.max(4, W / 100), 0, 2 * Math.PI);
+    octx.stroke();
+  }
 }
 
 connect();
