@@ -172,19 +172,31 @@ impl Client {
         self.socket.send(Message::text(text)).expect("send");
     }
 
-    /// The next message (pings and pongs skipped).
+    /// The next message (pings and pongs skipped); `Closed` after [`PATIENCE`].
     pub fn recv(&mut self) -> Msg {
         loop {
-            match self.socket.read() {
-                Ok(Message::Text(t)) => return Msg::Json(serde_json::from_str(t.as_str()).expect("JSON")),
-                Ok(Message::Binary(b)) => {
-                    let n = u32::from_le_bytes(b[..4].try_into().unwrap()) as usize;
-                    let header = serde_json::from_slice(&b[4..4 + n]).expect("a JSON header");
-                    return Msg::Binary(header, b[4 + n..].to_vec());
-                }
-                Ok(Message::Close(_)) | Err(_) => return Msg::Closed,
-                Ok(_) => {}
+            match decode(self.socket.read()) {
+                Outcome::Msg(m) => return m,
+                Outcome::TimedOut => return Msg::Closed,
+                Outcome::Skipped => {}
             }
+        }
+    }
+
+    /// The next message if one arrives within `timeout`.
+    pub fn try_recv(&mut self, timeout: Duration) -> Option<Msg> {
+        self.set_timeout(timeout.max(Duration::from_micros(100)));
+        let read = decode(self.socket.read());
+        self.set_timeout(PATIENCE);
+        match read {
+            Outcome::Msg(m) => Some(m),
+            Outcome::TimedOut | Outcome::Skipped => None,
+        }
+    }
+
+    fn set_timeout(&mut self, timeout: Duration) {
+        if let MaybeTlsStream::Plain(s) = self.socket.get_mut() {
+            s.set_read_timeout(Some(timeout)).unwrap();
         }
     }
 
@@ -221,6 +233,32 @@ impl Client {
                 _ => {}
             }
         }
+    }
+}
+
+/// What one read gave.
+enum Outcome {
+    Msg(Msg),
+    TimedOut,
+    Skipped,
+}
+
+fn decode(read: Result<Message, tungstenite::Error>) -> Outcome {
+    match read {
+        Ok(Message::Text(t)) => Outcome::Msg(Msg::Json(serde_json::from_str(t.as_str()).expect("JSON"))),
+        Ok(Message::Binary(b)) => {
+            let n = u32::from_le_bytes(b[..4].try_into().unwrap()) as usize;
+            let header = serde_json::from_slice(&b[4..4 + n]).expect("a JSON header");
+            Outcome::Msg(Msg::Binary(header, b[4 + n..].to_vec()))
+        }
+        Ok(Message::Close(_)) => Outcome::Msg(Msg::Closed),
+        Ok(_) => Outcome::Skipped,
+        Err(tungstenite::Error::Io(e))
+            if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) =>
+        {
+            Outcome::TimedOut
+        }
+        Err(_) => Outcome::Msg(Msg::Closed),
     }
 }
 

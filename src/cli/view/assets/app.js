@@ -103,6 +103,11 @@ function onScene(msg) {
     requestRender();
   } else {
     flash(`reloaded (version ${msg.version})`);
+    // The ray tree was of the old scene.
+    lastTree = null;
+    drawRays();
+    $('tree').replaceChildren();
+    $('tree-hint').hidden = false;
   }
 }
 
@@ -139,7 +144,6 @@ function draw(h, rgb) {
   if (picture.width !== h.width || picture.height !== h.height) {
     picture.width = overlay.width = h.width;
     picture.height = overlay.height = h.height;
-    lastTree = null;
   }
   const image = new ImageData(cols, rows);
   for (let i = 0, j = 0; i < rgb.length; i += 3, j += 4) {
@@ -374,14 +378,16 @@ function showTree(msg) {
   body.dataset.trees = Number(body.dataset.trees) + 1;
 }
 
-// Draws the last ray tree's rays over the picture, projected with its camera:
-// segments between hits (cut at the camera plane), dashed shadow rays to point
-// lights (green lit, red blocked), a ring at the clicked pixel.
+// Draws the last ray tree's rays over the picture: segments between hits (cut at
+// the camera plane), dashed shadow rays to point lights (green lit, red blocked),
+// and a ring at the clicked pixel while the camera has not moved.
 function drawRays() {
   octx.clearRect(0, 0, overlay.width, overlay.height);
   const msg = lastTree;
-  if (!msg || msg.trace.opts.width !== overlay.width || msg.trace.opts.height !== overlay.height) return;
-  const c = msg.camera, W = overlay.width, H = overlay.height;
+  if (!msg || !camera) return;
+  // Projected with the page's camera: the rays stay on their objects as it moves.
+  const c = camera, W = overlay.width, H = overlay.height;
+  const sameView = JSON.stringify(c) === JSON.stringify(msg.camera) && msg.trace.opts.width === W && msg.trace.opts.height === H;
   const { f, r, u } = frame(c);
   const spans = msg.angle_spans_edges ? H : Math.max(H, 2) - 1;
   const pitch = (2 * Math.tan((c.angle * Math.PI) / 360)) / spans;
@@ -421,6 +427,7 @@ function drawRays() {
   octx.lineWidth = Math.max(1.5, W / 400);
   for (const [raster, node] of msg.trace.samples) {
     walk(node, '#ffd54f');
+    if (!sameView) continue;
     octx.setLineDash([]);
     octx.strokeStyle = '#ffd54f';
     octx.beginPath();
