@@ -355,3 +355,35 @@ fn a_pixel_gets_its_ray_tree_with_kinds_and_lines() {
         .unwrap()
         .contains("outside"));
 }
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_the_server_with_pages_open() {
+    let mut server = Server::start(&showcase(), &[]);
+    let mut c = server.connect();
+    let scene = scene_of(&mut c);
+    c.send(&render_msg(&scene["camera"], 320, 240, 64));
+    c.until_json("view", |_| {});
+    assert_eq!(server.interrupt(), Some(130));
+    assert!(matches!(c.recv(), Msg::Closed));
+}
+
+#[test]
+fn view_refuses_standard_input_and_reports_a_bad_file_before_serving() {
+    let stdin = common::nffrt(&["view", "-", "--no-open"], b"s 0 0 0 1\n");
+    assert_eq!(stdin.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&stdin.stderr).contains("not standard input"));
+    let missing = common::nffrt(&["view", "no/such/scene.nff", "--no-open"], b"");
+    assert_eq!(missing.status.code(), Some(4));
+    let dir = scratch("bad");
+    let bad = dir.join("bad.nff");
+    std::fs::write(&bad, "s 0 0 0 1\nq\n").unwrap();
+    let broken = common::nffrt(&["view", bad.to_str().unwrap(), "--no-open"], b"");
+    assert_eq!(broken.status.code(), Some(3));
+    let stderr = String::from_utf8_lossy(&broken.stderr);
+    assert!(
+        stderr.contains(&format!("{}:2:1: unknown keyword", bad.display())),
+        "{stderr}"
+    );
+    assert!(broken.stdout.is_empty(), "no URL for a scene that does not load");
+}

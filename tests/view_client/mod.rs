@@ -79,6 +79,23 @@ impl Server {
         self.child.try_wait().expect("process state").is_none()
     }
 
+    /// Sends SIGINT (Ctrl-C) to the server and waits for it to exit: its exit code.
+    #[cfg(unix)]
+    pub fn interrupt(&mut self) -> Option<i32> {
+        let sent = Command::new("kill")
+            .args(["-INT", &self.child.id().to_string()])
+            .status();
+        assert!(sent.is_ok_and(|s| s.success()), "kill -INT");
+        let t0 = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().expect("process state") {
+                return status.code();
+            }
+            assert!(t0.elapsed() < PATIENCE, "the server did not stop on SIGINT");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     /// A WebSocket session with the right token, Host and Origin.
     pub fn connect(&self) -> Client {
         let origin = format!("http://{}", self.host());
@@ -254,7 +271,10 @@ fn decode(read: Result<Message, tungstenite::Error>) -> Outcome {
         Ok(Message::Close(_)) => Outcome::Msg(Msg::Closed),
         Ok(_) => Outcome::Skipped,
         Err(tungstenite::Error::Io(e))
-            if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) =>
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
         {
             Outcome::TimedOut
         }
