@@ -15,7 +15,7 @@
 #[path = "../tests/view_client/mod.rs"]
 mod view_client;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
@@ -36,9 +36,15 @@ fn orbit(camera: &Value, degrees: f64) -> Value {
     let k = [up[0] / n, up[1] / n, up[2] / n];
     let p = [from[0] - at[0], from[1] - at[1], from[2] - at[2]];
     let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
-    let kxp = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]];
+    let kxp = [
+        k[1] * p[2] - k[2] * p[1],
+        k[2] * p[0] - k[0] * p[2],
+        k[0] * p[1] - k[1] * p[0],
+    ];
     let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    let turned: Vec<f64> = (0..3).map(|i| at[i] + p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c)).collect();
+    let turned: Vec<f64> = (0..3)
+        .map(|i| at[i] + p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
+        .collect();
     let mut out = camera.clone();
     out["from"] = serde_json::json!(turned);
     out
@@ -72,7 +78,7 @@ fn percentile(sorted: &[Duration], p: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize].as_secs_f64() * 1e3
 }
 
-fn bench(path: &PathBuf) {
+fn bench(path: &Path) {
     let server = Server::start(path, &[]);
     let mut client = server.connect();
     let scene = client.until_json("scene", |_| {});
@@ -144,7 +150,10 @@ fn bench(path: &PathBuf) {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
     let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
     let scenes: Vec<PathBuf> = if args.is_empty() {
         ["spd/mount.nff", "spd/balls.nff", "p3f/2025/dragon.p3f"]

@@ -189,16 +189,9 @@ fn converges_to_the_render(scene_path: &Path, width: u32, height: u32, spp: u32,
         rgb == rgb_of_png(&png),
         "the converged frame differs from nffrt render's picture"
     );
-    c.send(&json!({"type": "png"}));
-    loop {
-        if let Msg::Binary(h, file) = c.recv() {
-            if h["kind"] == "png" {
-                assert_eq!(h["complete"], true);
-                assert!(file == png, "the saved PNG differs from nffrt render's file");
-                break;
-            }
-        }
-    }
+    let (h, file) = saved_png(&mut c);
+    assert_eq!(h["complete"], true);
+    assert!(file == png, "the saved PNG differs from nffrt render's file");
     strides.dedup();
     if width * height > 8192 {
         assert!(
@@ -280,14 +273,31 @@ fn gen_before(step: u64, first: u64) -> u64 {
 const EDITED: &str = "v from 0 0 6 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 24 18\n\
                       b 0.1 0.1 0.1\nl 2 3 9\nf 0.9 0.2 0.2 0.8 0.1 10 0 1\n\ns 0 0 0 1.5\n";
 
-#[test]
-fn a_saved_file_renders_again_and_a_broken_one_keeps_the_picture() {
-    let dir = scratch("reload");
-    let file = dir.join("scene.nff");
+/// A server on a copy of [`EDITED`] in a scratch folder, a session, its scene message.
+fn session_on_edited(name: &str) -> (PathBuf, Server, view_client::Client, Value) {
+    let file = scratch(name).join("scene.nff");
     std::fs::write(&file, EDITED).unwrap();
     let server = Server::start(&file, &[]);
     let mut c = server.connect();
     let scene = scene_of(&mut c);
+    (file, server, c, scene)
+}
+
+/// Asks for the current picture as PNG: the reply's header and file.
+fn saved_png(c: &mut view_client::Client) -> (Value, Vec<u8>) {
+    c.send(&json!({"type": "png"}));
+    loop {
+        if let Msg::Binary(h, png) = c.recv() {
+            if h["kind"] == "png" {
+                return (h, png);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_saved_file_renders_again_and_a_broken_one_keeps_the_picture() {
+    let (file, _server, mut c, scene) = session_on_edited("reload");
     assert_eq!(scene["version"], 0);
     c.send(&render_msg(&scene["camera"], 24, 18, 1));
     let gen = c.until_json("view", |_| {})["gen"].as_u64().unwrap();
@@ -317,16 +327,9 @@ fn a_saved_file_renders_again_and_a_broken_one_keeps_the_picture() {
         (error["line"].clone(), error["column"].clone()),
         (json!(6), json!(7))
     );
-    c.send(&json!({"type": "png"}));
-    loop {
-        if let Msg::Binary(h, png) = c.recv() {
-            if h["kind"] == "png" {
-                assert_eq!(h["gen"], gen);
-                assert!(rgb_of_png(&png) == green, "the last good picture stays");
-                break;
-            }
-        }
-    }
+    let (h, png) = saved_png(&mut c);
+    assert_eq!(h["gen"], gen);
+    assert!(rgb_of_png(&png) == green, "the last good picture stays");
     // Fixed again: back to rendering.
     std::fs::write(&file, EDITED).unwrap();
     assert_eq!(c.until_json("scene", |_| {})["version"], 2);
@@ -334,12 +337,7 @@ fn a_saved_file_renders_again_and_a_broken_one_keeps_the_picture() {
 
 #[test]
 fn a_pixel_gets_its_ray_tree_with_kinds_and_lines() {
-    let dir = scratch("tree");
-    let file = dir.join("scene.nff");
-    std::fs::write(&file, EDITED).unwrap();
-    let server = Server::start(&file, &[]);
-    let mut c = server.connect();
-    let scene = scene_of(&mut c);
+    let (_file, _server, mut c, scene) = session_on_edited("tree");
     c.send(&render_msg(&scene["camera"], 24, 18, 1));
     c.until_json("view", |_| {});
     c.send(&json!({"type": "pixel", "x": 12, "y": 9}));

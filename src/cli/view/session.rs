@@ -9,6 +9,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket};
 use tokio::sync::{broadcast, watch};
 
@@ -76,16 +77,12 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
                 if changed.is_err() {
                     break;
                 }
-                let frame = frames.borrow_and_update().clone();
+                // Frames of older generations are dropped: the page asked for newer.
+                let frame = frames.borrow_and_update().clone().filter(|f| f.gen >= s.gen);
                 match frame {
-                    Some(f) if f.gen >= s.gen => {
-                        if socket.send(Message::Binary(f.bytes.clone().into())).await.is_err() {
-                            break;
-                        }
-                    }
-                    _ => {}
+                    Some(f) => vec![Reply::Binary(f.bytes.clone())],
+                    None => vec![],
                 }
-                vec![]
             }
             event = events.recv() => match event {
                 Ok(SceneEvent::Loaded(loaded)) => s.reloaded(loaded),
@@ -114,7 +111,7 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
         for msg in out {
             let sent = match msg {
                 Reply::Json(m) => send_json(&mut socket, &m).await,
-                Reply::Binary(b) => socket.send(Message::Binary(b.into())).await,
+                Reply::Binary(b) => socket.send(Message::Binary(b)).await,
             };
             if sent.is_err() {
                 return;
@@ -126,7 +123,7 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
 /// A message to send.
 enum Reply {
     Json(ServerMessage),
-    Binary(Vec<u8>),
+    Binary(Bytes),
 }
 
 impl From<ServerMessage> for Reply {
@@ -292,7 +289,7 @@ impl Session {
             return error("the picture could not be encoded");
         }
         let header = serde_json::json!({ "kind": "png", "gen": gen, "complete": complete });
-        Reply::Binary(encode_binary(&header, &png))
+        Reply::Binary(encode_binary(&header, &png).into())
     }
 }
 

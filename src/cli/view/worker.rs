@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
+use axum::body::Bytes;
 use tokio::sync::watch;
 
 use super::protocol::{encode_binary, FrameHeader};
@@ -47,8 +48,8 @@ pub struct Job {
 pub struct Frame {
     /// The generation.
     pub gen: u64,
-    /// The encoded message ([`encode_binary`]).
-    pub bytes: Vec<u8>,
+    /// The encoded message ([`encode_binary`]), shared without copying.
+    pub bytes: Bytes,
 }
 
 /// The latest full-resolution picture (for "save PNG").
@@ -189,7 +190,7 @@ fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool,
     };
     Arc::new(Frame {
         gen: job.gen,
-        bytes: encode_binary(&header, rgb),
+        bytes: encode_binary(&header, rgb).into(),
     })
 }
 
