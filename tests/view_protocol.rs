@@ -363,7 +363,8 @@ fn ctrl_c_stops_the_server_with_pages_open() {
     c.send(&render_msg(&scene["camera"], 320, 240, 64));
     c.until_json("view", |_| {});
     assert_eq!(server.interrupt(), Some(130));
-    assert!(matches!(c.recv(), Msg::Closed));
+    // Frames sent before the end may still be in the socket; then it is closed.
+    while !matches!(c.recv(), Msg::Closed) {}
 }
 
 #[test]

@@ -321,9 +321,9 @@ function outcome(o) {
   return ['adds ' + fmt(o.Lit), 'lit'];
 }
 
-function rayNode(node, kinds, lights, title) {
+function rayNode(node, kinds, lights, title, open = true) {
   const box = el('details');
-  box.open = true;
+  box.open = open;
   const h = node.hit;
   const summary = el('summary', h ? 'hit' : 'miss');
   if (h) {
@@ -370,7 +370,9 @@ function showTree(msg) {
     el('div', 'fact', `rays: ${t.stats.eye_rays} eye, ${t.stats.reflection_rays} reflection, ${t.stats.refraction_rays} refraction, ${t.stats.shadow_rays} shadow (${t.stats.shadow_blocked} blocked)`),
   );
   t.samples.forEach(([raster, node], k) => {
-    tree.append(rayNode(node, msg.kinds, t.lights, `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0].toFixed(3)}, ${raster[1].toFixed(3)})`));
+    const title = `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0].toFixed(3)}, ${raster[1].toFixed(3)})`;
+    // The first eye ray open, the others folded.
+    tree.append(rayNode(node, msg.kinds, t.lights, title, k === 0));
   });
   $('tree-hint').hidden = true;
   lastTree = msg;
