@@ -19,6 +19,7 @@ let frames = 0;
 let fullFrames = 0;
 let cameraBlock = '';
 let lastTree = null;
+let treeCamera = null; // the page's camera when the pixel was clicked
 let pending = false;
 
 // --- vectors -------------------------------------------------------------
@@ -281,6 +282,7 @@ picture.addEventListener('pointerup', () => {
   picture.classList.remove('dragging');
   if (drag && drag.moved <= 3) {
     const [x, y] = drag.start;
+    treeCamera = camera;
     send({ type: 'pixel', x, y });
   }
   drag = null;
@@ -389,7 +391,8 @@ function drawRays() {
   if (!msg || !camera) return;
   // Projected with the page's camera: the rays stay on their objects as it moves.
   const c = camera, W = overlay.width, H = overlay.height;
-  const sameView = JSON.stringify(c) === JSON.stringify(msg.camera) && msg.trace.opts.width === W && msg.trace.opts.height === H;
+  // (The camera object is replaced whenever the camera moves.)
+  const sameView = c === treeCamera && msg.trace.opts.width === W && msg.trace.opts.height === H;
   const { f, r, u } = frame(c);
   const spans = msg.angle_spans_edges ? H : Math.max(H, 2) - 1;
   const pitch = (2 * Math.tan((c.angle * Math.PI) / 360)) / spans;
