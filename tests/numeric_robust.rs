@@ -205,7 +205,7 @@ fn zero_length_patch_normals_are_harmless() {
 #[test]
 fn depth_64_in_a_mirror_box_fits_a_small_stack() {
     // Off-centre: from the exact centre, symmetric eye rays strike the box's edges
-    // exactly and a reflected ray starting on the adjacent face escapes (see README).
+    // exactly and a reflected ray starting on the adjacent face escapes (see docs/command-line.md, Limits).
     let src = "v from 0.1 0.23 0.05 at 0.3 -0.2 -1 up 0 1 0 angle 60 hither 0 resolution 4 4\n\
                l 0.5 0.5 0.5\nf 0.5 0.5 0.5 0.2 1 20 0 1\naabb -1 1 -1 1 -1 1\n";
     let scene = parse(src).unwrap();

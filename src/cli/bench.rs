@@ -40,7 +40,7 @@ pub struct BenchArgs {
     /// Seed of the random ray set.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Resource limits (see "Limits" in the README); the primary and random ray sets
+    /// Resource limits (see "Limits" in docs/command-line.md); the primary and random ray sets
     /// count as pixels.
     #[command(flatten)]
     pub limits: RenderLimitArgs,

@@ -30,7 +30,7 @@ mod view;
 
 use clap::{Parser, Subcommand};
 
-/// Exit codes, documented in the README.
+/// Exit codes, documented in `docs/command-line.md`.
 pub mod exit {
     /// Success.
     pub const OK: i32 = 0;
