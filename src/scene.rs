@@ -14,7 +14,7 @@ use crate::math::{Aabb, Vec3};
 
 /// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
 /// `f` / `mat` with its specular colour.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     /// Base (diffuse) colour (linear RGB).
     pub color: Vec3,

@@ -86,7 +86,7 @@ pub enum Shape {
 }
 
 /// Which NFF entity a primitive came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum SourceKind {
     /// `s`
     Sphere,

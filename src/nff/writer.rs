@@ -20,7 +20,7 @@ use std::io::{self, Write};
 
 use super::Format;
 use crate::math::Vec3;
-use crate::scene::{Accel, Scene, View};
+use crate::scene::{Accel, Dialect, Scene, View};
 
 /// A number in shortest round-trip form; exponent form below 1e-4 and from 1e9 on,
 /// where plain decimals would be long.
@@ -100,16 +100,18 @@ pub fn write_scene(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
     write_in(scene, format, w)
 }
 
-/// The camera block of `view` in `format` (`v ...` for NFF, `camera ...` with the
-/// lens for P3F), one sub-keyword per line.
-pub fn view_block(view: &View, format: Format) -> String {
+/// The camera block of `view` as a file of `dialect` writes it, one sub-keyword per
+/// line: `v` for NFF (no lens) and P3F 2019/20 (with `aperture` and `focal`),
+/// `camera` (with `eye`) for P3F 2024/25.
+pub fn view_block(view: &View, dialect: Dialect) -> String {
     let v = view;
-    let mut out = match format {
-        Format::Nff => format!("v\nfrom {}\n", V(v.from)),
-        Format::P3f => format!("camera\neye {}\n", V(v.from)),
+    let (head, eye) = match dialect {
+        Dialect::P3f2025 => ("camera", "eye"),
+        Dialect::Nff | Dialect::P3f2019 => ("v", "from"),
     };
-    out += &format!(
-        "at {}\nup {}\nangle {}\nhither {}\nresolution {} {}\n",
+    let mut out = format!(
+        "{head}\n{eye} {}\nat {}\nup {}\nangle {}\nhither {}\nresolution {} {}\n",
+        V(v.from),
         V(v.at),
         V(v.up),
         N(v.angle),
@@ -117,7 +119,7 @@ pub fn view_block(view: &View, format: Format) -> String {
         v.width,
         v.height
     );
-    if format == Format::P3f {
+    if dialect.is_p3f() {
         out += &format!("aperture {}\nfocal {}\n", N(v.aperture), N(v.focal));
     }
     out
@@ -144,7 +146,8 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
     } else {
         writeln!(w, "b {}", V(scene.background))?;
     }
-    write!(w, "{}", view_block(&scene.view, format))?;
+    let dialect = if p3f { Dialect::P3f2025 } else { Dialect::Nff };
+    write!(w, "{}", view_block(&scene.view, dialect))?;
     for l in &scene.lights {
         match (p3f, l.area, l.color) {
             (true, None, c) => writeln!(

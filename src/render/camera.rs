@@ -25,7 +25,7 @@ use crate::scene::{AngleSpan, View};
 use super::RenderOptions;
 
 /// Where an eye ray goes: a raster position and a position on the lens.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct CameraSample {
     /// Raster position (pixel units, from the top-left corner).
     pub raster: (f32, f32),

@@ -3,7 +3,9 @@
 //! [`trace_pixel`] runs the same [`Tracer`] code path as [`super::render`] with a
 //! [`Recorder`] that builds a [`RayNode`] tree per eye ray, and combines the samples
 //! with the same functions, so the value it reports is bit for bit the rendered
-//! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact.
+//! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact;
+//! its `Serialize` gives the same data as JSON (tuples as arrays, vectors as
+//! `{x, y, z}`), for `nffrt view`.
 
 use std::fmt;
 
@@ -17,7 +19,7 @@ use crate::math::{Ray, Vec3};
 use crate::scene::{Dialect, Material, Scene};
 
 /// One ray of the tree and what it saw.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RayNode {
     /// Ray origin.
     pub origin: Vec3,
@@ -32,7 +34,7 @@ pub struct RayNode {
 }
 
 /// A surface hit of a [`RayNode`].
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct HitNode {
     /// Ray-tree depth (eye ray = 1).
     pub depth: u32,
@@ -61,7 +63,7 @@ pub struct HitNode {
 }
 
 /// What one light did at a hit.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum LightRecord {
     /// A point light's outcome.
     Point(LightOutcome),
@@ -75,7 +77,7 @@ pub enum LightRecord {
 }
 
 /// The ray trees of every eye ray of one pixel, and the pixel's value.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PixelTrace {
     /// Pixel column.
     pub x: u32,
@@ -478,5 +480,26 @@ mod tests {
         }
         // The glass sphere is in view, so the check covered refraction too.
         assert!(refracted > 0);
+    }
+
+    /// The JSON form names each hit's primitive kind and line and each light's outcome.
+    #[test]
+    fn the_tree_serializes_with_kinds_lines_and_outcomes() {
+        let scene = crate::nff::parse(
+            "v from 0 0 10 at 0 0 0 up 0 1 0 angle 30 hither 1 resolution 3 3\nl 0 0 20\n\
+             f 1 1 1 1 0 1 0 1\ns 0 0 0 1\n",
+        )
+        .unwrap();
+        let bvh = Bvh::new(build_geometry(&scene));
+        let t = trace_pixel(&scene, &bvh, &RenderOptions::from_scene(&scene), 1, 1);
+        let json = serde_json::to_value(&t).unwrap();
+        let hit = &json["samples"][0][1]["hit"];
+        assert_eq!(hit["kind"], "Sphere");
+        assert_eq!(hit["line"], 4);
+        assert!(
+            hit["lights"][0]["Point"]["Lit"]["x"].as_f64().unwrap() > 0.0,
+            "{hit}"
+        );
+        assert_eq!(json["value"]["x"].as_f64().unwrap(), t.value.x as f64);
     }
 }

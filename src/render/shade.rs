@@ -34,7 +34,7 @@ use crate::scene::{Dialect, Material, Scene};
 use super::light::LightSource;
 
 /// The kind of a secondary ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Branch {
     /// Mirror reflection.
     Reflection,

@@ -52,7 +52,7 @@ pub struct HitRecord<'a> {
 }
 
 /// What became of one point of a light at a hit (the whole of a point light).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum LightOutcome {
     /// The point is behind the surface: no shadow ray (SPD rule).
     Behind,
@@ -63,7 +63,7 @@ pub enum LightOutcome {
 }
 
 /// What became of an area light at a hit: its points' outcomes summed up.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct AreaOutcome {
     /// Points sampled.
     pub samples: u32,
