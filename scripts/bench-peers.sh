@@ -81,7 +81,7 @@ if [ -x "$py" ]; then
         # The two programs alternate, run by run, so that the host's load falls on both.
         # Embree runs twice: with its default scene flags (NONE) and with
         # RTC_SCENE_FLAG_ROBUST, the counterpart of nffrt's box test, whose exits are
-        # stretched against rounding (`accel::wide::FAR_SCALE`).
+        # stretched against rounding (`accel::traverse::wide::FAR_SCALE`).
         e=""; er=""; declare -A n=() t=()
         for _ in $(seq "$runs"); do
             e+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null)$'\n'

@@ -1,7 +1,7 @@
 //! BVH tests: structural validation on edge cases, and closest-hit / occlusion
 //! agreement with the brute-force scan on random scenes and rays.
 
-use super::bvh::leaf_kinds;
+use super::leaf::pack::leaf_kinds;
 use super::{Bvh, NO_HINT};
 use crate::geometry::build_geometry;
 use crate::geometry::{ConeShape, Hit};
@@ -78,7 +78,7 @@ fn coincident_primitives_still_build_a_valid_shallow_tree() {
     let bvh = bvh_of(&scene_with(&spheres, &[]));
     let st = bvh.stats();
     assert!(st.depth <= 12, "depth {}", st.depth);
-    assert!(st.max_leaf as usize <= super::build::MAX_LEAF);
+    assert!(st.max_leaf as usize <= crate::accel::build::sah::MAX_LEAF);
 }
 
 /// Four unit cubes 10 apart along x. By hand: root area 2(31 + 31 + 1) = 126, each
@@ -89,7 +89,7 @@ fn coincident_primitives_still_build_a_valid_shallow_tree() {
 /// a block, so they are split like the first four.
 #[test]
 fn the_sah_counts_packable_primitives_a_block_at_a_time() {
-    use super::build::{build, leaf_cost, Pack, Packs};
+    use crate::accel::build::sah::{build, leaf_cost, Pack, Packs};
     use crate::math::Aabb;
     let cubes: Vec<Aabb> = (0..4)
         .map(|i| {
@@ -256,7 +256,7 @@ fn deep_trees_agree_with_brute_force() {
         let base = point(20.0);
         cone(base, -0.5, base + point(1.0), -0.3);
     }
-    // Thin ones, most of them filed in pieces (`accel::split`).
+    // Thin ones, most of them filed in pieces (`accel::build::split`).
     for _ in 0..100 {
         let base = point(20.0);
         cone(base, 0.04, base + point(1.5), 0.04);
@@ -281,7 +281,7 @@ fn deep_trees_agree_with_brute_force() {
 }
 
 /// Thin cylinders lying across the axes, as in the SPD's rings, are filed in pieces
-/// (`accel::split`); rays aimed at their sides right at the seams between pieces (and
+/// (`accel::build::split`); rays aimed at their sides right at the seams between pieces (and
 /// a little to either side) find the hit the scan finds, single and in packets.
 #[test]
 fn rays_at_the_seams_of_split_cones_find_the_scans_hit() {
@@ -418,7 +418,7 @@ fn assert_portable_copy<const KINDS: u32>(
     closest: Option<(Hit, u32)>,
     occluded: &[bool],
 ) {
-    use super::wide::Portable;
+    use crate::accel::traverse::wide::Portable;
     assert_eq!(
         bvh.closest_hit_with::<_, KINDS>(Portable, r, f32::INFINITY),
         closest
@@ -474,7 +474,7 @@ pub(super) fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::A
 
 #[test]
 fn parallel_build_equals_sequential_build_exactly() {
-    use super::build::{build_with, Pack, MAX_LEAF};
+    use crate::accel::build::sah::{build_with, Pack, MAX_LEAF};
     let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
     let bits = |n: &super::BvhNode| (n.min.map(f32::to_bits), n.max.map(f32::to_bits), n.first, n.count);
     for kind in 0..5 {
@@ -739,7 +739,7 @@ fn rays_through_shared_edges_and_vertices_find_the_scans_hit() {
 /// starting at the origin; a lane in use beside it is still entered.
 #[test]
 fn empty_lanes_are_never_entered() {
-    use super::wide::{Kernels, Portable, RayBoxes, EMPTY, MAX, MIN};
+    use crate::accel::traverse::wide::{Kernels, Portable, RayBoxes, EMPTY, MAX, MIN};
     let mut node = EMPTY;
     for axis in 0..3 {
         node.bounds[MIN][axis][0] = -1.0;

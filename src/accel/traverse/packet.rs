@@ -14,7 +14,7 @@
 //! union. A subtree left to six rays or fewer is walked by each of them alone with
 //! [`Bvh::closest_hit`]'s traversal, cheaper per node (among 600 000 spheres the
 //! rays soon part: packets +16 %). A triangle leaf entered by four rays or more has
-//! each triangle tested against all eight rays at once (`ray8.rs`), other leaves
+//! each triangle tested against all eight rays at once (`leaf::ray8`), other leaves
 //! are tested ray by ray, always with the single-ray arithmetic, so every ray gets
 //! the hit `closest_hit` gives it, ties included (`Nearest`).
 
@@ -22,11 +22,13 @@ use std::cell::RefCell;
 
 use wide::f32x8;
 
-use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
-use super::ray8::{Ray8, RAYS};
-use super::tri4::Ray4;
+use super::single::sort_descending;
 use super::wide::{Kernels, Node8, Portable, RayBoxes, FAR_SCALE, MAX, MIN, WIDTH};
+use crate::accel::bvh::Bvh;
+use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
+use crate::accel::leaf::ray8::{Ray8, RAYS};
+use crate::accel::leaf::tri4::Ray4;
 use crate::geometry::Hit;
 use crate::math::{Ray, TINY_DIR};
 
@@ -166,7 +168,7 @@ impl Bvh {
 
     /// [`Bvh::closest_hit_packet`] with the slab test `kernels` (see `closest_hit_with`).
     #[inline(always)]
-    pub(super) fn closest_hit_packet_with<S: Kernels>(
+    pub(in crate::accel) fn closest_hit_packet_with<S: Kernels>(
         &self,
         kernels: S,
         rays: &[Ray],
@@ -298,7 +300,7 @@ impl Bvh {
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest::<S, { super::bvh::leaf_kinds::ALL }>(
+                        self.leaf_closest::<S, { leaf_kinds::ALL }>(
                             kernels,
                             first,
                             count,
@@ -343,7 +345,7 @@ impl Bvh {
                         while each != 0 {
                             let k = each.trailing_zeros() as usize;
                             each &= each - 1;
-                            self.walk_closest::<S, { super::bvh::leaf_kinds::ALL }>(
+                            self.walk_closest::<S, { leaf_kinds::ALL }>(
                                 kernels,
                                 e.node,
                                 &rays[k],

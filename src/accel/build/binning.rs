@@ -8,7 +8,7 @@
 
 use wide::{f32x4, i32x4};
 
-use super::build::{Pack, Packs};
+use super::sah::{Pack, Packs};
 use crate::math::{Aabb, Vec3};
 
 /// Bins per axis for the SAH sweep.
