@@ -110,22 +110,24 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
         &[Pack::Triangle, Pack::Sphere, Pack::Triangle, Pack::Sphere],
     );
     assert_eq!(mixed.nodes[0].count, 0, "mixed kinds split at the root");
-    let packs = |triangles, spheres, cones| Packs {
-        triangles,
-        spheres,
-        cones,
-    };
+    let packs = |kinds: &[Pack]| Packs::of(kinds.iter().copied());
+    let (triangles, spheres, cones) = (
+        packs(&[Pack::Triangle]),
+        packs(&[Pack::Sphere]),
+        packs(&[Pack::Cone]),
+    );
     // Eight triangles to a test (two blocks of four), four spheres or four cones (one
     // block).
-    assert_eq!(leaf_cost(8, packs(8, 0, 0)), 1.0);
-    assert_eq!(leaf_cost(9, packs(9, 0, 0)), 2.0);
-    assert_eq!(leaf_cost(4, packs(0, 4, 0)), 1.0);
-    assert_eq!(leaf_cost(5, packs(0, 5, 0)), 2.0);
-    assert_eq!(leaf_cost(4, packs(0, 0, 4)), 1.0);
-    assert_eq!(leaf_cost(6, packs(0, 0, 6)), 2.0);
-    assert_eq!(leaf_cost(4, packs(3, 0, 0)), 4.0);
-    assert_eq!(leaf_cost(4, packs(2, 2, 0)), 4.0);
-    assert_eq!(leaf_cost(4, packs(0, 2, 2)), 4.0);
+    assert_eq!(leaf_cost(8, triangles), 1.0);
+    assert_eq!(leaf_cost(9, triangles), 2.0);
+    assert_eq!(leaf_cost(4, spheres), 1.0);
+    assert_eq!(leaf_cost(5, spheres), 2.0);
+    assert_eq!(leaf_cost(4, cones), 1.0);
+    assert_eq!(leaf_cost(6, cones), 2.0);
+    assert_eq!(leaf_cost(4, packs(&[Pack::Triangle, Pack::Alone])), 4.0);
+    assert_eq!(leaf_cost(4, packs(&[Pack::Triangle, Pack::Sphere])), 4.0);
+    assert_eq!(leaf_cost(4, packs(&[Pack::Sphere, Pack::Cone])), 4.0);
+    assert_eq!(leaf_cost(0, Packs::default()), 0.0);
 }
 
 #[test]
