@@ -23,7 +23,7 @@ pub(in crate::accel) const SPHERE4_LEAF: usize = 1 << 30;
 /// `child` is the first of `count & !CONE4_LEAF` [`Cone4`] blocks.
 pub(in crate::accel) const CONE4_LEAF: usize = 1 << 29;
 
-/// Sets of leaf kinds, as bits, for the copies of the queries (see [`Bvh::kinds`]).
+/// Sets of leaf kinds, as bits, for the copies of the queries (see [`Bvh::kinds`](crate::accel::bvh::Bvh::kinds)).
 pub(in crate::accel) mod leaf_kinds {
     use super::{Node8, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF, WIDTH};
 
@@ -85,7 +85,7 @@ macro_rules! with_kinds {
 }
 pub(in crate::accel) use with_kinds;
 
-/// The kind of block `p` is tested in (see [`build::Pack`]): triangles, and spheres
+/// The kind of block `p` is tested in (see [`Pack`]): triangles, and spheres
 /// and (non-degenerate) cones visible from outside, pack four to a block; everything
 /// else is tested alone.
 pub(in crate::accel) fn pack_of(p: &Primitive) -> Pack {

@@ -176,8 +176,8 @@ impl Bvh {
 
     /// Offers to `nearest` the hits of `ray` (and `ray4`, the same ray broadcast) in
     /// the leaf lane whose child and count are `first` and `count`: [`Tri4`] blocks
-    /// when marked [`TRI4_LEAF`], [`Sphere4`] blocks when marked [`SPHERE4_LEAF`],
-    /// [`Cone4`] blocks when marked [`CONE4_LEAF`], else primitives; only the kinds
+    /// when marked [`TRI4_LEAF`], [`Sphere4`](crate::accel::leaf::sphere4::Sphere4) blocks when marked [`SPHERE4_LEAF`],
+    /// [`Cone4`](crate::accel::leaf::cone4::Cone4) blocks when marked [`CONE4_LEAF`], else primitives; only the kinds
     /// in `KINDS` (see [`leaf_kinds`]) are looked for, the last one without looking.
     #[inline(always)]
     pub(in crate::accel) fn leaf_closest<S: Kernels, const KINDS: u32>(
