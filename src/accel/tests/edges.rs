@@ -5,10 +5,13 @@ use super::*;
 
 /// Packets give every ray exactly its single-ray answer (hit, distance bits and
 /// primitive), for coherent rays from one point (the interval test) and for rays
-/// whose directions differ in sign (ray-by-ray tests), packets of 1 to 8 rays; the
-/// scene has many exact ties (triangles sharing edges, a grid of coincident spheres).
+/// whose directions differ in sign (ray-by-ray tests), packets of 1 to 8 rays, with
+/// the kernels this CPU chose and with the portable ones, and so does the stream of
+/// all of them (`closest_hits`); the scene has many exact ties (triangles sharing
+/// edges, a grid of coincident spheres).
 #[test]
 fn packets_give_each_ray_its_single_ray_answer() {
+    use crate::accel::traverse::wide::Portable;
     use crate::accel::PACKET;
     let mut tris = Vec::new();
     for i in 0..40 {
@@ -44,22 +47,30 @@ fn packets_give_each_ray_its_single_ray_answer() {
         let d = Vec3::new(a.cos(), a.sin(), (a * 0.37).sin() * 0.5);
         rays.push(Ray::new(Vec3::new(0.1, 0.2, 1.0), d.normalize()));
     }
+    let bits = |h: &Option<(Hit, u32)>| h.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p));
     let mut hits = 0;
     for size in [1, 3, PACKET] {
         for packet in rays.chunks(size) {
             let mut out = vec![None; packet.len()];
+            let mut portable = vec![None; packet.len()];
             bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
-            for (r, got) in packet.iter().zip(&out) {
+            bvh.closest_hit_packet_with(Portable, packet, f32::INFINITY, &mut portable);
+            for ((r, got), port) in packet.iter().zip(&out).zip(&portable) {
                 let single = bvh.closest_hit(r, f32::INFINITY);
-                assert_eq!(
-                    got.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p)),
-                    single.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p))
-                );
+                assert_eq!(bits(got), bits(&single));
+                assert_eq!(bits(port), bits(&single), "portable kernels");
                 hits += usize::from(got.is_some());
             }
         }
     }
     assert!(hits > 3 * 3000, "{hits} hits: the rays should mostly hit");
+    // A stream whose length is no multiple of the packet's.
+    let stream = &rays[..rays.len() - 3];
+    let mut out = vec![None; stream.len()];
+    bvh.closest_hits(stream, f32::INFINITY, &mut out);
+    for (r, got) in stream.iter().zip(&out) {
+        assert_eq!(bits(got), bits(&bvh.closest_hit(r, f32::INFINITY)));
+    }
 }
 
 /// Rays straight down onto the shared edges and corners of a flat grid of triangles:

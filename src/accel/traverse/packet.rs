@@ -153,6 +153,21 @@ thread_local! {
 }
 
 impl Bvh {
+    /// [`Bvh::closest_hit`] for every ray of `rays`, [`PACKET`] consecutive rays at a
+    /// time: `out[k]` receives the nearest hit of `rays[k]` with `0 < t < t_max`, the
+    /// very hit `closest_hit` gives it (ties included). The entry point for streams
+    /// of coherent rays, such as a row of camera rays, or one sample of each pixel of
+    /// a row: neighbours in the slice should be neighbours in the image.
+    ///
+    /// # Panics
+    /// If `out` has another length than `rays`.
+    pub fn closest_hits(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+        assert_eq!(out.len(), rays.len(), "one result per ray");
+        for (packet, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            self.closest_hit_packet(packet, t_max, out);
+        }
+    }
+
     /// [`Bvh::closest_hit`] for up to [`PACKET`] rays at once: `out[k]` receives the
     /// nearest hit of `rays[k]` with `0 < t < t_max`. Fastest on coherent rays.
     ///
