@@ -1,10 +1,12 @@
 //! # nffrt — a fast, correct Whitted ray tracer for NFF scenes
 //!
 //! NFF (Eric Haines' Neutral File Format) is the scene format of the Standard
-//! Procedural Databases. The pipeline: [`nff::parse`] text into a [`Scene`];
+//! Procedural Databases, and P3F, the extended NFF of the IST course that builds on
+//! it. The pipeline: [`nff::parse`] text into a [`Scene`] ([`load`] reads a file and
+//! the images it names);
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
-//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes at any size.
+//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes, at sizes up to 10 million primitives.
 //! [`render::render_region`] traces a crop with exactly the full render's pixels,
 //! and [`image::tiles`] assembles such crops; [`render::debug::trace_pixel`] keeps
 //! the ray tree of one pixel.
@@ -25,12 +27,26 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod fingerprint;
 pub mod gen;
 pub mod geometry;
 pub mod image;
+pub mod load;
 pub mod math;
 pub mod nff;
 pub mod render;
 pub mod scene;
 
 pub use scene::Scene;
+
+/// A short, lower-case description of an I/O error, the same wording everywhere:
+/// `no such file or directory`, `permission denied`, `is a directory`, or the
+/// system's own text for anything else.
+pub fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file or directory".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        std::io::ErrorKind::IsADirectory => "is a directory".into(),
+        _ => e.to_string(),
+    }
+}

@@ -7,15 +7,21 @@
 //! A generated scene ([`crate::gen`]) numbers its primitives with the lines they
 //! occupy when [`crate::nff::write_nff`] writes it, which also fixes their order there.
 
+use std::sync::Arc;
+
+use crate::image::skybox::Skybox;
 use crate::math::{Aabb, Vec3};
 
-/// A surface material, the operands of the NFF `f` keyword.
+/// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
+/// `f` / `mat` with its specular colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// Base colour (linear RGB).
+    /// Base (diffuse) colour (linear RGB).
     pub color: Vec3,
     /// Diffuse weight `Kd`.
     pub kd: f32,
+    /// Specular colour: tints the highlight and the mirror reflection (P3F; white in NFF).
+    pub specular: Vec3,
     /// Specular weight `Ks`: highlight strength and reflection coefficient.
     pub ks: f32,
     /// Phong exponent.
@@ -32,6 +38,7 @@ impl Material {
     pub const DEFAULT: Material = Material {
         color: Vec3::ONE,
         kd: 1.0,
+        specular: Vec3::ONE,
         ks: 0.0,
         shine: 1.0,
         t: 0.0,
@@ -39,16 +46,73 @@ impl Material {
     };
 }
 
-/// A point light (`l x y z [r g b]`).
+/// A light: a point (`l x y z [r g b]`, P3F `light punctual`) or a parallelogram
+/// (P3F `al`, `light quad`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
-    /// Position in world space.
+    /// The point light's position; an area light's corner.
     pub position: Vec3,
-    /// Colour if the file gives one; `None` means the SPD's default intensity.
+    /// Colour (intensity) if the file gives one; `None` means the SPD's default.
     pub color: Option<Vec3>,
+    /// The area light's extent; `None` for a point light.
+    pub area: Option<LightArea>,
 }
 
-/// The pinhole camera of the `v` block.
+/// The extent of an area light: the parallelogram with corners `position`, `v1` and
+/// `v2` (P3F `light quad`'s three points): its points are
+/// `position + u (v1 - position) + v (v2 - position)`, `u` and `v` in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightArea {
+    /// The corner at the end of the first edge from `position`.
+    pub v1: Vec3,
+    /// The corner at the end of the second edge from `position`.
+    pub v2: Vec3,
+    /// Points per side of the regular grid sampled with one eye sample per pixel.
+    pub grid: u32,
+}
+
+impl Light {
+    /// A point light.
+    pub fn point(position: Vec3, color: Option<Vec3>) -> Light {
+        Light {
+            position,
+            color,
+            area: None,
+        }
+    }
+}
+
+/// Which language a scene was written in; it chooses the shading model (the NFF /
+/// SPD rules or the P3F course's) and how the writer spells it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum Dialect {
+    /// NFF, with nffrt's extensions.
+    #[default]
+    Nff,
+    /// P3F as of the 2019/20 course (`v`, `f`, `l`, `al`).
+    P3f2019,
+    /// P3F as of the 2024/25 course (`camera`, `mat`, `light`, `spp`, `accel`).
+    P3f2025,
+}
+
+impl Dialect {
+    /// True for either P3F dialect.
+    pub fn is_p3f(self) -> bool {
+        self != Dialect::Nff
+    }
+}
+
+/// What a view's `angle` spans, vertically (pixels are square).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AngleSpan {
+    /// NFF: from the centre of the top pixel row to the centre of the bottom one.
+    #[default]
+    PixelCentres,
+    /// P3F: from the top edge of the image to its bottom edge.
+    ImageEdges,
+}
+
+/// The camera of the `v` block (NFF and P3F 2019) or the `camera` block (P3F 2025).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// Eye position.
@@ -57,7 +121,7 @@ pub struct View {
     pub at: Vec3,
     /// Up direction (need not be perpendicular to the view direction).
     pub up: Vec3,
-    /// Field of view in degrees between the centres of the outer pixel rows.
+    /// Vertical field of view in degrees (see [`View::angle_span`]).
     pub angle: f32,
     /// Near distance for hidden-surface renderers; a ray tracer ignores it.
     pub hither: f32,
@@ -65,6 +129,12 @@ pub struct View {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// What `angle` spans: pixel centres in NFF, image edges in P3F.
+    pub angle_span: AngleSpan,
+    /// Lens diameter in pixels of the view plane (P3F `aperture`); 0 is a pinhole.
+    pub aperture: f32,
+    /// Distance of the plane of sharp focus as a multiple of `|from - at|` (P3F `focal`).
+    pub focal: f32,
 }
 
 impl Default for View {
@@ -78,6 +148,9 @@ impl Default for View {
             hither: 1.0,
             width: 512,
             height: 512,
+            angle_span: AngleSpan::PixelCentres,
+            aperture: 0.0,
+            focal: 1.0,
         }
     }
 }
@@ -165,6 +238,62 @@ pub struct BoxPrim {
     pub line: u32,
 }
 
+/// A triangle mesh (P3F `mesh nv nt`); its vertices are
+/// `scene.mesh_vertices[first_vertex .. first_vertex + vertex_count]` and its
+/// triangles `scene.mesh_triangles[first_triangle .. first_triangle + triangle_count]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mesh {
+    /// Index of its first vertex in [`Scene::mesh_vertices`].
+    pub first_vertex: u32,
+    /// Number of vertices.
+    pub vertex_count: u32,
+    /// Index of its first triangle in [`Scene::mesh_triangles`].
+    pub first_triangle: u32,
+    /// Number of triangles kept (degenerate ones are skipped).
+    pub triangle_count: u32,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Line of the `mesh` keyword in the source.
+    pub line: u32,
+}
+
+/// One triangle of a [`Mesh`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshTriangle {
+    /// Its corners, as indices into [`Scene::mesh_vertices`] (resolved from the
+    /// file's 1-based or from-the-end indices).
+    pub vertices: [u32; 3],
+    /// Line of its first index in the source.
+    pub line: u32,
+}
+
+/// The acceleration structure a P3F file asks for (`accel`); nffrt always builds its
+/// BVH and reports the request.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Accel {
+    /// `accel none`
+    None,
+    /// `accel grid`
+    Grid,
+    /// `accel bvh`
+    Bvh,
+}
+
+/// A skybox named by the scene (P3F `env FOLDER`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// The folder as written, relative to the scene file's directory.
+    pub folder: String,
+    /// Line of the `env` keyword.
+    pub line: u32,
+    /// Column of the folder's name.
+    pub column: u32,
+    /// The six decoded faces, once the scene's files have been read
+    /// ([`crate::load`]); `None` for a scene parsed from text alone.
+    pub skybox: Option<Arc<Skybox>>,
+}
+
 /// Something the parser tolerated, with where it was.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Warning {
@@ -182,13 +311,17 @@ impl std::fmt::Display for Warning {
     }
 }
 
-/// A whole NFF scene.
+/// A whole scene (NFF or P3F).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
+    /// The language it was written in.
+    pub dialect: Dialect,
     /// The camera.
     pub view: View,
-    /// Background colour.
+    /// Background colour (`b`, P3F `bclr`), seen where no skybox is.
     pub background: Vec3,
+    /// The skybox, which replaces the background colour once loaded.
+    pub environment: Option<Environment>,
     /// Point lights in file order.
     pub lights: Vec<Light>,
     /// Material table; primitives refer to it by index.
@@ -211,6 +344,17 @@ pub struct Scene {
     pub planes: Vec<Plane>,
     /// Boxes.
     pub boxes: Vec<BoxPrim>,
+    /// Triangle meshes.
+    pub meshes: Vec<Mesh>,
+    /// Vertices of all meshes.
+    pub mesh_vertices: Vec<Vec3>,
+    /// Triangles of all meshes.
+    pub mesh_triangles: Vec<MeshTriangle>,
+    /// Samples per pixel asked for by the file (P3F `spp`; 0 is one sample at the
+    /// pixel centre), the default of `--spp`.
+    pub spp: Option<u32>,
+    /// The acceleration structure the file asks for (P3F `accel`).
+    pub accel: Option<Accel>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
 }
@@ -227,7 +371,12 @@ impl Scene {
         (&self.patch_vertices[r.clone()], &self.patch_normals[r])
     }
 
-    /// Number of bounded primitives plus planes.
+    /// The triangles of one mesh (their corners index [`Scene::mesh_vertices`]).
+    pub fn mesh_triangles_of(&self, m: &Mesh) -> &[MeshTriangle] {
+        &self.mesh_triangles[m.first_triangle as usize..(m.first_triangle + m.triangle_count) as usize]
+    }
+
+    /// Number of primitives: bounded ones, planes and mesh triangles.
     pub fn primitive_count(&self) -> usize {
         self.spheres.len()
             + self.cones.len()
@@ -235,6 +384,86 @@ impl Scene {
             + self.patches.len()
             + self.planes.len()
             + self.boxes.len()
+            + self.mesh_triangles.len()
+    }
+
+    /// Appends the primitives, their vertices and the lights of `other`, a scene
+    /// parsed from a later piece of the same file: each primitive's material index is
+    /// mapped by `material`, and vertex and triangle ranges are shifted past this
+    /// scene's. The camera, background, environment, materials, settings and
+    /// warnings of `other` are the caller's to merge: the exhaustive destructuring
+    /// below makes whoever adds a field to [`Scene`] decide how it joins.
+    pub fn append(&mut self, other: Scene, material: &mut impl FnMut(u32) -> u32) {
+        let Scene {
+            dialect: _,
+            view: _,
+            background: _,
+            environment: _,
+            lights,
+            materials: _,
+            spheres,
+            cones,
+            polygons,
+            polygon_vertices,
+            patches,
+            patch_vertices,
+            patch_normals,
+            planes,
+            boxes,
+            meshes,
+            mesh_vertices,
+            mesh_triangles,
+            spp: _,
+            accel: _,
+            warnings: _,
+        } = other;
+        let polygon_base = self.polygon_vertices.len() as u32;
+        let patch_base = self.patch_vertices.len() as u32;
+        let (vertex_base, triangle_base) =
+            (self.mesh_vertices.len() as u32, self.mesh_triangles.len() as u32);
+        let remap = |m: &mut u32, material: &mut dyn FnMut(u32) -> u32| *m = material(*m);
+        self.spheres.extend(spheres.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.cones.extend(cones.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.polygons.extend(polygons.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first += polygon_base;
+            x
+        }));
+        self.patches.extend(patches.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first += patch_base;
+            x
+        }));
+        self.planes.extend(planes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.boxes.extend(boxes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
+        self.meshes.extend(meshes.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x.first_vertex += vertex_base;
+            x.first_triangle += triangle_base;
+            x
+        }));
+        self.mesh_triangles
+            .extend(mesh_triangles.into_iter().map(|mut t| {
+                t.vertices = t.vertices.map(|i| i + vertex_base);
+                t
+            }));
+        self.polygon_vertices.extend(polygon_vertices);
+        self.patch_vertices.extend(patch_vertices);
+        self.patch_normals.extend(patch_normals);
+        self.mesh_vertices.extend(mesh_vertices);
+        self.lights.extend(lights);
     }
 
     /// Bounding box of every bounded primitive (planes excluded); empty if none.
@@ -253,6 +482,11 @@ impl Scene {
         }
         for v in self.polygon_vertices.iter().chain(&self.patch_vertices) {
             b = b.grow(*v);
+        }
+        for t in &self.mesh_triangles {
+            for &i in &t.vertices {
+                b = b.grow(self.mesh_vertices[i as usize]);
+            }
         }
         for x in &self.boxes {
             b = b.union(Aabb::new(x.min, x.max));

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const TINY: &str = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 16 16\n\
                     l 0 0 10\nf 1 0 0 1 0 1 0 1\ns 0 0 0 1\n";
@@ -366,9 +366,17 @@ fn slow_scene(dir: &Path) -> PathBuf {
     path
 }
 
-/// Starts a long render into `dest` (stderr a pipe, not a terminal) and waits until
-/// its temporary output exists, that is, until parsing is over and the render begins.
-fn start_render(scene: &Path, dest: &Path) -> Child {
+/// A render started in the background, its standard error read by a thread that
+/// hands each line over as it comes.
+struct Running {
+    child: Child,
+    lines: std::sync::mpsc::Receiver<String>,
+}
+
+/// Starts a long render into `dest` (stderr a pipe, not a terminal) with
+/// `--progress`, and returns once it reports its first tenth of rows: the BVH is
+/// built and the render is under way, with nine tenths to go.
+fn start_render(scene: &Path, dest: &Path) -> Running {
     let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
         .args([
             "render",
@@ -381,30 +389,38 @@ fn start_render(scene: &Path, dest: &Path) -> Child {
             "3000",
             "--height",
             "3000",
+            "--progress",
         ])
         .stdin(Stdio::null())
-        .stdout(Stdio::piped())
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let dir = dest.parent().unwrap();
-    let t0 = Instant::now();
-    while temporaries(dir).is_empty() {
-        if let Some(status) = child.try_wait().unwrap() {
-            panic!("nffrt ended before rendering: {status}");
+    let stderr = child.stderr.take().unwrap();
+    let (send, lines) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        for line in std::io::BufReader::new(stderr).lines() {
+            if send.send(line.unwrap()).is_err() {
+                break;
+            }
         }
-        assert!(
-            t0.elapsed() < Duration::from_secs(120),
-            "no temporary output after 2 minutes"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    std::thread::sleep(Duration::from_millis(300));
-    child
+    });
+    // Generous: the machine may be busy; the line comes after about a second alone.
+    let first = lines
+        .recv_timeout(Duration::from_secs(300))
+        .unwrap_or_else(|e| panic!("no progress line from the render ({e})"));
+    assert!(first.starts_with("progress: 10% ("), "{first}");
+    assert!(
+        !temporaries(dest.parent().unwrap()).is_empty(),
+        "no temporary output mid-render"
+    );
+    Running { child, lines }
 }
 
 /// Sends `signal` (INT or TERM) to the render and checks the aftermath: exit 130,
-/// one line saying so, no temporary left, and the destination as it was before.
+/// one line saying so (beside progress lines), no temporary left, and the
+/// destination as it was before.
 fn interrupt(signal: &str, existing: Option<&[u8]>) {
     let dir = scratch(&format!("sig{signal}{}", existing.is_some()));
     let scene = slow_scene(&dir);
@@ -412,15 +428,18 @@ fn interrupt(signal: &str, existing: Option<&[u8]>) {
     if let Some(bytes) = existing {
         std::fs::write(&dest, bytes).unwrap();
     }
-    let child = start_render(&scene, &dest);
+    let Running { mut child, lines } = start_render(&scene, &dest);
     let pid = child.id().to_string();
     let kill = Command::new("kill")
         .args([format!("-{signal}").as_str(), &pid])
         .status()
         .unwrap();
     assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    fails_with(&out, 130, "interrupted");
+    let status = child.wait().unwrap();
+    // The reader ends with standard error: every line is in the channel.
+    let errors: Vec<String> = lines.iter().filter(|l| !l.starts_with("progress: ")).collect();
+    assert_eq!(status.code(), Some(130), "{errors:?}");
+    assert_eq!(errors, ["nffrt: error: interrupted"]);
     match existing {
         Some(bytes) => assert_eq!(std::fs::read(&dest).unwrap(), bytes),
         None => assert!(!dest.exists(), "a partial image was left"),

@@ -23,6 +23,7 @@ fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Imag
         height: size,
         max_depth,
         sampling,
+        ..Default::default()
     };
     render(&scene, &bvh, &opts)
 }
@@ -203,9 +204,9 @@ fn zero_length_patch_normals_are_harmless() {
 /// rayon's worker threads get by default.
 #[test]
 fn depth_64_in_a_mirror_box_fits_a_small_stack() {
-    // Off-centre: from the exact centre, symmetric eye rays strike the box's edges
-    // exactly and a reflected ray starting on the adjacent face escapes (see README).
-    let src = "v from 0.1 0.23 0.05 at 0.3 -0.2 -1 up 0 1 0 angle 60 hither 0 resolution 4 4\n\
+    // From the exact centre: symmetric eye rays strike the box's edges, which must
+    // keep them inside as well (see the next test).
+    let src = "v from 0 0 0 at 0.3 -0.2 -1 up 0 1 0 angle 60 hither 0 resolution 4 4\n\
                l 0.5 0.5 0.5\nf 0.5 0.5 0.5 0.2 1 20 0 1\naabb -1 1 -1 1 -1 1\n";
     let scene = parse(src).unwrap();
     let bvh = Bvh::new(build_geometry(&scene));
@@ -214,6 +215,7 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
         height: 4,
         max_depth: 64,
         sampling: Sampling::PixelCenters,
+        ..Default::default()
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -224,5 +226,31 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
     assert_eq!(stats.eye_hits, 16);
     assert_eq!(stats.reflection_rays, 16 * 63);
     assert_eq!(stats.secondary_hits, 16 * 63);
+    assert!(img.pixels.iter().all(|p| p.is_finite() && p.x > 0.0));
+}
+
+/// Rays that strike a box exactly on an edge or a corner stay inside it. From the
+/// exact centre of a mirror box, a 3x3 image with a 90-degree angle between the
+/// outer pixel centres sends its eye rays along (±1, ±1, -1), (±1, 0, -1), ... :
+/// eight of the nine meet an edge or a corner of the box exactly. A secondary ray
+/// must not start on a face it is about to leave through, so every ray of every
+/// bounce hits the box again (the box is closed): 9 eye hits, 9 x 15 secondary hits.
+#[test]
+fn mirror_box_edges_and_corners_keep_every_ray_inside() {
+    let src = "v from 0 0 0 at 0 0 -1 up 0 1 0 angle 90 hither 0 resolution 3 3\n\
+               l 0.5 0.5 0.5\nf 0.5 0.5 0.5 0.2 1 20 0 1\naabb -1 1 -1 1 -1 1\n";
+    let scene = parse(src).unwrap();
+    let bvh = Bvh::new(build_geometry(&scene));
+    let opts = RenderOptions {
+        width: 3,
+        height: 3,
+        max_depth: 16,
+        sampling: Sampling::PixelCenters,
+        ..Default::default()
+    };
+    let (img, stats) = render(&scene, &bvh, &opts);
+    assert_eq!(stats.eye_hits, 9);
+    assert_eq!(stats.reflection_rays, 9 * 15);
+    assert_eq!(stats.secondary_hits, 9 * 15, "a ray escaped the closed box");
     assert!(img.pixels.iter().all(|p| p.is_finite() && p.x > 0.0));
 }

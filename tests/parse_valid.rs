@@ -16,8 +16,17 @@ use nffrt::scene::Material;
 use nffrt::Scene;
 
 /// Counts that must be 0 unless the header says otherwise.
-const ZERO_BY_DEFAULT: [&str; 7] = [
-    "spheres", "polygons", "patches", "cones", "planes", "boxes", "lights",
+const ZERO_BY_DEFAULT: [&str; 10] = [
+    "spheres",
+    "polygons",
+    "patches",
+    "cones",
+    "planes",
+    "boxes",
+    "lights",
+    "area_lights",
+    "meshes",
+    "mesh_triangles",
 ];
 
 fn check(path: &Path) -> Result<(), String> {
@@ -288,12 +297,24 @@ fn tiny_and_huge_geometry_is_not_mistaken_for_degenerate() {
 }
 
 #[test]
-fn empty_and_blank_inputs_are_empty_scenes_with_the_default_camera() {
-    for src in [&b""[..], b"\n", b"   \r\n\t\n", b"#"] {
-        let json = json_of(&nffrt(&["info", "--json", "-"], src), "stdin");
-        assert_eq!(common::field(&json, "width"), 512, "{src:?}");
-        let total: u64 = ZERO_BY_DEFAULT.iter().map(|k| field(&json, k)).sum();
-        assert_eq!(total, 0, "{src:?}");
-        assert_eq!(warnings(&json).len(), 1, "{src:?}: only the no-camera warning");
+fn empty_and_blank_inputs_are_errors_not_black_pictures() {
+    // (line, column) of the end of each input, where the error points.
+    for (src, end) in [
+        (&b""[..], (1, 1)),
+        (b"\n", (2, 1)),
+        (b"   \r\n\t\n", (3, 1)),
+        (b"#", (1, 2)),
+    ] {
+        for command in ["info", "render"] {
+            let out = nffrt(
+                &[command, "-", "-o", "-"][..if command == "info" { 2 } else { 4 }],
+                src,
+            );
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(3), "{command} {src:?}: {stderr}");
+            let want = format!("nffrt: error: <stdin>:{}:{}: empty scene", end.0, end.1);
+            assert!(stderr.starts_with(&want), "{command} {src:?}: {stderr}");
+            assert!(out.stdout.is_empty(), "{command} {src:?}: no image");
+        }
     }
 }

@@ -55,6 +55,7 @@ fn material() -> impl Strategy<Value = Material> {
     (vec3(), num(), num(), num(), num(), num()).prop_map(|(color, kd, ks, shine, t, ior)| Material {
         color,
         kd,
+        specular: Vec3::ONE,
         ks,
         shine,
         t,
@@ -80,6 +81,7 @@ fn view() -> impl Strategy<Value = View> {
                 hither,
                 width,
                 height,
+                ..View::default()
             }
         })
 }
@@ -135,7 +137,7 @@ fn scene() -> impl Strategy<Value = Scene> {
                 background,
                 lights: lights
                     .into_iter()
-                    .map(|(position, color)| Light { position, color })
+                    .map(|(position, color)| Light::point(position, color))
                     .collect(),
                 ..Scene::default()
             };

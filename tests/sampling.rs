@@ -23,6 +23,7 @@ fn opts(sampling: Sampling) -> RenderOptions {
         height: 36,
         max_depth: 5,
         sampling,
+        ..Default::default()
     }
 }
 

@@ -28,13 +28,18 @@ fn packets_find_the_single_ray_hits_on_every_spd_scene() {
         };
         let scene = nffrt::nff::parse_bytes(&src).expect("an SPD scene parses");
         let bvh = Bvh::new(build_geometry(&scene));
-        let camera = Camera::new(&scene.view, 512, 512);
+        let opts = nffrt::render::RenderOptions {
+            width: 512,
+            height: 512,
+            ..Default::default()
+        };
+        let camera = Camera::new(&scene.view, &opts);
         let bits = |h: Option<(nffrt::geometry::Hit, u32)>| {
             h.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p))
         };
         let (mut hits, mut out) = (0, [None; PACKET]);
         for y in 0..=512u32 {
-            let row: Vec<Ray> = (0..=512u32).map(|x| camera.ray(x as f32, y as f32)).collect();
+            let row: Vec<Ray> = (0..=512u32).map(|x| camera.ray_at(x as f32, y as f32)).collect();
             for (c, packet) in row.chunks(PACKET).enumerate() {
                 let out = &mut out[..packet.len()];
                 bvh.closest_hit_packet(packet, f32::INFINITY, out);

@@ -107,9 +107,16 @@ fn tiles_record_their_place_and_settings() {
     let png = nffrt::image::decode_png(&std::fs::read(&t).unwrap()[..]).unwrap();
     assert_eq!((png.width, png.height), (7, 16));
     assert_eq!(png.text("nffrt:region"), Some("3,4,10,20,61,47"));
-    assert_eq!(
-        png.text("nffrt:options"),
-        Some("sampling=stratified-9 max-depth=3")
+    let options = png.text("nffrt:options").unwrap();
+    for field in ["\"width\":61", "\"height\":47", "\"max_depth\":3", "\"spp\":9"] {
+        assert!(options.contains(field), "{field} in {options}");
+    }
+    // The fingerprint: the scene file's 64-bit FNV-1a hash, and the options' hash.
+    let fingerprint = png.text("nffrt:fingerprint").unwrap();
+    let scene_hash = fnv1a64(&std::fs::read(SHOWCASE).unwrap());
+    assert!(
+        fingerprint.starts_with(&format!("scene={scene_hash:016x} options=")),
+        "{fingerprint}"
     );
     assert_eq!(png.text("Software"), Some("nffrt"));
     std::fs::remove_dir_all(&dir).unwrap();
@@ -144,7 +151,10 @@ fn broken_tile_sets_are_refused_with_the_reason() {
     );
     let (code, err) = merge(&["left", "right4"]);
     assert_eq!(code, Some(3));
-    assert!(err.contains("different settings"), "{err}");
+    assert!(
+        err.contains("right4.png was rendered with different settings"),
+        "{err}"
+    );
     let (code, err) = merge(&["left", "full"]);
     assert_eq!(code, Some(3));
     assert!(err.contains("not an nffrt tile"), "{err}");
@@ -183,5 +193,147 @@ fn broken_tile_sets_are_refused_with_the_reason() {
         assert_eq!(nffrt(&args, b"").status.code(), Some(2), "{r}");
         assert!(!x.exists());
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// 64-bit FNV-1a, written out here from its definition (offset basis, prime) to
+/// check the library's.
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h: u64, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// Runs nffrt in `dir` (for the default output names, which are relative).
+fn nffrt_in(dir: &Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_nffrt"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+/// Merges `tiles` (in `dir`) into `dir/out.png`: the exit code and standard error.
+fn merge_in(dir: &Path, tiles: &[&str]) -> (Option<i32>, String) {
+    let out = dir.join("out.png");
+    let tiles: Vec<String> = tiles.iter().map(|t| s(&dir.join(t)).to_string()).collect();
+    let mut args = vec!["merge", "-o", s(&out)];
+    args.extend(tiles.iter().map(String::as_str));
+    let o = nffrt(&args, b"");
+    assert!(
+        o.status.success() || !out.exists(),
+        "no output after a failed merge"
+    );
+    (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+/// Issue 23, item 2: tiles of two scenes with the same settings do not merge; the
+/// odd tile is named.
+#[test]
+fn tiles_of_another_scene_are_refused_and_named() {
+    let dir = scratch("scenes");
+    // The showcase with another background: same settings, another picture.
+    let other = dir.join("other.nff");
+    let text = std::fs::read_to_string(SHOWCASE).unwrap();
+    std::fs::write(&other, format!("b 1 0 1\n{text}")).unwrap();
+    let render_from = |scene: &Path, region: &str, out: &str| {
+        let mut args = vec!["render", s(scene), "-q", "--region", region, "-o"];
+        let out = dir.join(out);
+        args.push(s(&out));
+        args.extend_from_slice(&SIZE);
+        let o = nffrt(&args, b"");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let showcase = Path::new(SHOWCASE);
+    render_from(showcase, "0,0,61,20", "top.png");
+    render_from(showcase, "0,20,61,30", "middle.png");
+    render_from(&other, "0,20,61,30", "middle-other.png");
+    render_from(showcase, "0,30,61,47", "bottom.png");
+    let (code, err) = merge_in(&dir, &["top.png", "middle-other.png", "bottom.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("middle-other.png comes from a different scene"),
+        "{err}"
+    );
+    // Two tiles that disagree: both are named, neither can be called the odd one.
+    let (code, err) = merge_in(&dir, &["top.png", "middle-other.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("top.png and") && err.contains("middle-other.png come from different scenes"),
+        "{err}"
+    );
+    // The same tiles from one scene merge.
+    let (code, err) = merge_in(&dir, &["top.png", "middle.png", "bottom.png"]);
+    assert_eq!(code, Some(0), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 23, item 2: a tile whose depth differs (an option that changes pixels) is
+/// refused like one of another sampling, and a tile without a fingerprint (from an
+/// older nffrt) is refused with the reason.
+#[test]
+fn tiles_without_a_fingerprint_or_of_another_depth_are_refused() {
+    let dir = scratch("fingerprint");
+    render(&dir.join("left.png"), Some("0,0,30,47"), &[]);
+    render(&dir.join("right.png"), Some("30,0,61,47"), &["--max-depth", "2"]);
+    let (code, err) = merge_in(&dir, &["left.png", "right.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("right.png was rendered with different settings"),
+        "{err}"
+    );
+    // An older nffrt's tile: the region and options chunks, no fingerprint.
+    render(&dir.join("right.png"), Some("30,0,61,47"), &[]);
+    let png = nffrt::image::decode_png(&std::fs::read(dir.join("right.png")).unwrap()[..]).unwrap();
+    let old_text: Vec<(&str, String)> = png
+        .text
+        .iter()
+        .filter(|(k, _)| k != "nffrt:fingerprint")
+        .map(|(k, v)| (k.as_str(), v.clone()))
+        .collect();
+    assert_eq!(old_text.len(), png.text.len() - 1, "{:?}", png.text);
+    let mut old = Vec::new();
+    nffrt::image::encode_png_rgb8(png.width, png.height, &png.rgb, &old_text, &mut old).unwrap();
+    std::fs::write(dir.join("old.png"), old).unwrap();
+    let (code, err) = merge_in(&dir, &["left.png", "old.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("old.png: the tile has no scene fingerprint"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 23, item 3: without `-o`, a tile is named after its region, and a full
+/// render of the same scene in the same directory is left as it was.
+#[test]
+fn a_tile_never_takes_the_full_pictures_default_name() {
+    let dir = scratch("default_name");
+    std::fs::copy(SHOWCASE, dir.join("showcase.nff")).unwrap();
+    let full = nffrt_in(
+        &dir,
+        &["render", "showcase.nff", "-q", "--width", "40", "--height", "30"],
+    );
+    assert!(full.status.success(), "{}", String::from_utf8_lossy(&full.stderr));
+    let before = std::fs::read(dir.join("showcase.png")).unwrap();
+    let tile = nffrt_in(
+        &dir,
+        &[
+            "render",
+            "showcase.nff",
+            "--region",
+            "0,0,8,8",
+            "--width",
+            "40",
+            "--height",
+            "30",
+        ],
+    );
+    assert!(tile.status.success(), "{}", String::from_utf8_lossy(&tile.stderr));
+    assert_eq!(std::fs::read(dir.join("showcase.png")).unwrap(), before);
+    let png =
+        nffrt::image::decode_png(&std::fs::read(dir.join("showcase.0-0-8-8.png")).unwrap()[..]).unwrap();
+    assert_eq!((png.width, png.height), (8, 8));
+    assert!(String::from_utf8_lossy(&tile.stderr).starts_with("rendered showcase.0-0-8-8.png "));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -21,8 +21,13 @@ pub fn nff_text(scene: &Scene) -> String {
 
 /// One primary ray through each pixel centre at `w` x `h`.
 pub fn primary_rays(scene: &Scene, w: u32, h: u32) -> Vec<Ray> {
-    let camera = Camera::new(&scene.view, w, h);
+    let opts = nffrt::render::RenderOptions {
+        width: w,
+        height: h,
+        ..Default::default()
+    };
+    let camera = Camera::new(&scene.view, &opts);
     (0..h)
-        .flat_map(|j| (0..w).map(move |i| camera.ray(i as f32 + 0.5, j as f32 + 0.5)))
+        .flat_map(|j| (0..w).map(move |i| camera.ray_at(i as f32 + 0.5, j as f32 + 0.5)))
         .collect()
 }

@@ -41,6 +41,7 @@ fuzz_target!(|data: &[u8]| {
             height: 8,
             max_depth: 4,
             sampling,
+            ..Default::default()
         };
         let (image, _) = pool.install(|| render(&scene, &bvh, &opts));
         assert_eq!(image.pixels.len(), 64);

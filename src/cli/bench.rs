@@ -8,40 +8,49 @@ use clap::Args;
 use rayon::prelude::*;
 
 use super::limits::RenderLimitArgs;
-use super::load::load_scene_with;
+use super::load::{load_scene_with, Fingerprint};
 use super::output::brief;
+use super::render::MAX_THREADS;
+use super::values::whole_number;
 use super::CliError;
 use nffrt::accel::{Bvh, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::math::{Ray, Vec3};
-use nffrt::render::{Camera, Sampling};
+use nffrt::render::{Camera, RenderOptions, Sampling};
 
 /// Arguments of `nffrt bench`.
 #[derive(Args, Debug)]
+#[command(mut_arg("max_pixels", |a| a.help(
+    "Refuse more than N primary rays (the scene's width x height) or --random rays"
+)))]
 pub struct BenchArgs {
     /// Scene file (NFF); `-` reads standard input.
     pub scene: PathBuf,
-    /// Also trace the rays in FILE: raw little-endian float32 rows `ox oy oz dx dy dz`
-    /// (as written by `embree_anchor.py --dump-rays`).
+    /// Also trace the rays in FILE: raw little-endian float32 rows `ox oy oz dx dy dz`,
+    /// 24 bytes a ray (BENCHMARKS.md shows how to dump another tracer's rays).
     #[arg(long, value_name = "FILE")]
     pub rays: Option<PathBuf>,
-    /// Worker threads for the timed queries.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Worker threads for the timed queries, 1 to 1024.
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_THREADS as u64))]
     pub threads: u32,
-    /// Timed passes per query; the median is reported (and the best, as `*_best_*`).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    /// Timed passes per query, 1 to 1000; the median is reported (and the best, as
+    /// `*_best_*`).
+    #[arg(long, value_name = "N", default_value_t = 5, allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, 1000))]
     pub repeat: u32,
     /// Random rays to trace (default: width x height of the scene).
-    #[arg(long)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<usize>(0, u64::MAX))]
     pub random: Option<usize>,
     /// With `--rays`: trace only the file's rays (skip the primary and random sets).
     #[arg(long, requires = "rays")]
     pub rays_only: bool,
-    /// Seed of the random ray set.
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the random ray set (the same seed, the same rays).
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true,
+          value_parser = whole_number::<u64>(0, u64::MAX))]
     pub seed: u64,
-    /// Resource limits (see "Limits" in the README); the primary and random ray sets
-    /// count as pixels.
+    /// Resource limits (see "Limits" in the README).
     #[command(flatten)]
     pub limits: RenderLimitArgs,
 }
@@ -57,7 +66,7 @@ struct Timing {
 pub fn run(args: BenchArgs) -> Result<(), CliError> {
     // The rays file first: a bad one is reported before anything is built or printed.
     let file_rays = args.rays.as_ref().map(read_rays).transpose()?;
-    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
+    let loaded = load_scene_with(&args.scene, &args.limits.scene, Fingerprint::None)?;
     let scene = &loaded.scene;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads as usize)
@@ -90,10 +99,10 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             args.limits.max_pixels
         )));
     }
-    let camera = Camera::new(&scene.view, w, h);
+    let camera = Camera::new(&scene.view, &RenderOptions::from_scene(scene));
     let primary: Vec<Ray> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| camera.ray(i as f32 + 0.5, j as f32 + 0.5))
+        .map(|(i, j)| camera.ray_at(i as f32 + 0.5, j as f32 + 0.5))
         .collect();
     let random = random_rays(&bvh, n_random, args.seed);
 

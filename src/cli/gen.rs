@@ -1,7 +1,6 @@
 //! `nffrt gen`: writes one of the SPD's classic scenes as NFF, to standard output
 //! or, through a temporary file renamed when complete, to a file.
 
-use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -10,7 +9,8 @@ use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
-use super::{exit, interrupt, CliError};
+use super::output::{cannot_write, AtomicOutput};
+use super::CliError;
 
 /// Arguments of `nffrt gen`.
 #[derive(Args, Debug)]
@@ -19,8 +19,9 @@ pub struct GenArgs {
     /// Scene to make: balls, gears, mount, rings, teapot, tetra or tree.
     #[arg(value_name = "NAME", value_parser = parse_scene)]
     pub name: SpdScene,
-    /// Size factor with the SPD's meaning (see below); default: the SPD's default.
-    #[arg(short, long, value_name = "N")]
+    /// Size factor with the SPD's meaning, from 1 to the largest size listed below;
+    /// default: the SPD's default.
+    #[arg(short, long, value_name = "N", allow_negative_numbers = true, value_parser = parse_size)]
     pub size: Option<u32>,
     /// Write to FILE instead of standard output (`-` is standard output).
     #[arg(short, long, value_name = "FILE")]
@@ -32,6 +33,13 @@ fn parse_scene(s: &str) -> Result<SpdScene, String> {
         let names: Vec<&str> = SpdScene::ALL.iter().map(|s| s.name()).collect();
         format!("no SPD scene called '{s}' (try {})", names.join(", "))
     })
+}
+
+/// Any whole number: whether it suits the scene is checked with the scene known.
+fn parse_size(s: &str) -> Result<u32, String> {
+    s.trim()
+        .parse()
+        .map_err(|_| "must be a whole number from 1 to the scene's largest size".into())
 }
 
 /// The table of sizes shown after `nffrt gen --help`.
@@ -54,7 +62,8 @@ fn size_table() -> String {
 /// Runs `nffrt gen`.
 pub fn run(args: GenArgs) -> Result<(), CliError> {
     let size = args.size.unwrap_or(args.name.default_size());
-    let scene = generate(args.name, size).map_err(|e| CliError::usage(e.to_string()))?;
+    let scene = generate(args.name, size)
+        .map_err(|e| CliError::usage(format!("invalid value '{size}' for '--size <N>': {e}")))?;
     match args.output.as_deref() {
         None => write_stdout(&scene),
         Some(p) if p == Path::new("-") => write_stdout(&scene),
@@ -74,45 +83,7 @@ fn write_stdout(scene: &Scene) -> Result<(), CliError> {
 
 /// Writes beside `dest` and renames into place, so `dest` is never half-written.
 fn write_file(scene: &Scene, dest: &Path) -> Result<(), CliError> {
-    let name = dest.display();
-    if dest.is_dir() {
-        return Err(CliError::io(format!("{name}: is a directory")));
-    }
-    let Some(file_name) = dest.file_name() else {
-        return Err(CliError::io(format!("{name}: not a file name")));
-    };
-    let dir = dest
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
-    let written = (|| -> io::Result<()> {
-        let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        interrupt::register_temp(tmp.clone());
-        let mut w = BufWriter::with_capacity(1 << 16, file);
-        write_nff(scene, &mut w)?;
-        let file: File = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        drop(file);
-        // Ctrl-C or SIGTERM while writing: leave the destination as it was.
-        if interrupt::interrupted() {
-            return Err(io::Error::new(io::ErrorKind::Interrupted, "interrupted"));
-        }
-        std::fs::rename(&tmp, dest)
-    })();
-    interrupt::unregister_temp(&tmp);
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        if interrupt::interrupted() {
-            return CliError {
-                message: "interrupted".into(),
-                code: exit::INTERRUPTED,
-            };
-        }
-        CliError::io(format!("{name}: cannot write: {e}"))
-    })
+    let mut out = AtomicOutput::create(dest)?;
+    write_nff(scene, out.writer()).map_err(|e| cannot_write(dest.display(), &e))?;
+    out.commit()
 }

@@ -4,7 +4,7 @@
 use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
-use super::output::AtomicOutput;
+use super::output::{cannot_write, AtomicOutput};
 use super::CliError;
 use nffrt::image::{encode_pfm, encode_png, encode_png_rgb8, encode_ppm, Image};
 
@@ -104,8 +104,7 @@ impl Destination {
     fn write_with(self, encode: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), CliError> {
         match self {
             Destination::File(mut out, name) => {
-                encode(out.writer())
-                    .map_err(|e| CliError::io(format!("{name}: cannot write output: {e}")))?;
+                encode(out.writer()).map_err(|e| cannot_write(&name, &e))?;
                 out.commit()
             }
             Destination::Stdout => {

@@ -5,8 +5,9 @@
 
 use clap::Args;
 
+use super::values::whole_number;
 use super::CliError;
-use nffrt::nff::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
+use nffrt::nff::{Format, Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
 use nffrt::render::Sampling;
 
 /// Default of `--max-scene-bytes`: 2 GiB of NFF text.
@@ -15,26 +16,53 @@ pub const DEFAULT_MAX_SCENE_BYTES: u64 = 2 << 30;
 /// of float image while rendering.
 pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
 
-/// Limits on what a scene file may make nffrt read and build.
+/// How a scene file is read, and the limits on what it may make nffrt read and build.
 #[derive(Args, Debug, Clone)]
 pub struct SceneLimitArgs {
+    /// The scene's language; default: by the extension (`.p3f` is P3F, anything else
+    /// NFF). Needed for P3F on standard input.
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub format: Option<FormatArg>,
     /// Refuse scene files larger than N bytes.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SCENE_BYTES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SCENE_BYTES,
+          allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_scene_bytes: u64,
     /// Refuse scenes with more than N primitives.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PRIMITIVES)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PRIMITIVES,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_primitives: usize,
-    /// Refuse scenes with more than N polygon and patch vertices in all.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
+    /// Refuse scenes with more than N polygon, patch and mesh vertices in all.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_vertices: usize,
     /// Refuse scenes with more than N lights.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_LIGHTS)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_LIGHTS,
+          allow_negative_numbers = true, value_parser = whole_number::<usize>(0, u64::MAX))]
     pub max_lights: usize,
+}
+
+/// The values of `--format`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FormatArg {
+    /// NFF (the SPD's format, with nffrt's `pl` and `aabb`).
+    Nff,
+    /// P3F, the IST course's extended NFF (both dialects).
+    P3f,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Format {
+        match f {
+            FormatArg::Nff => Format::Nff,
+            FormatArg::P3f => Format::P3f,
+        }
+    }
 }
 
 impl Default for SceneLimitArgs {
     fn default() -> Self {
         SceneLimitArgs {
+            format: None,
             max_scene_bytes: DEFAULT_MAX_SCENE_BYTES,
             max_primitives: DEFAULT_MAX_PRIMITIVES,
             max_vertices: DEFAULT_MAX_VERTICES,
@@ -61,7 +89,8 @@ pub struct RenderLimitArgs {
     #[command(flatten)]
     pub scene: SceneLimitArgs,
     /// Refuse to render more than N pixels (counting the (w+1) x (h+1) corners with --spd).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS,
+          allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_pixels: u64,
 }
 
@@ -79,7 +108,7 @@ impl RenderLimitArgs {
     ) -> Result<(), CliError> {
         let (w, h) = (width as u64, height as u64);
         let grid = match sampling {
-            Sampling::PixelCenters | Sampling::Stratified { .. } => w * h,
+            Sampling::PixelCenters | Sampling::Stratified { .. } | Sampling::Independent { .. } => w * h,
             Sampling::SpdCorners => (w + 1) * (h + 1),
         };
         if grid > self.max_pixels {

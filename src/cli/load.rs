@@ -9,6 +9,8 @@ use super::output::brief;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
+use nffrt::load::{load_bytes, LoadError};
+use nffrt::nff::Format;
 use nffrt::Scene;
 
 /// A parsed scene with the name it is reported under and the time parsing took.
@@ -19,12 +21,31 @@ pub struct LoadedScene {
     pub name: String,
     /// Seconds spent parsing (reading excluded).
     pub parse_s: f64,
+    /// The scene's fingerprint ([`nffrt::fingerprint::scene_fingerprint`]), if asked for.
+    pub fingerprint: Option<u64>,
 }
 
-/// Reads and parses `path` (`-` is standard input) within `limits`: a file larger than
-/// `--max-scene-bytes` is refused before it is read. Parse errors come back as
-/// `PATH:LINE:COL: message` with the bad-scene exit code.
-pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedScene, CliError> {
+/// Whether to fingerprint the scene as it is read (tiles record it; it costs about a
+/// millisecond per megabyte).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fingerprint {
+    /// No fingerprint.
+    None,
+    /// The scene's fingerprint.
+    Scene,
+}
+
+/// Reads and parses `path` (`-` is standard input) within `limits`, in the format of
+/// `--format` or the file's extension, and decodes the files it names (a P3F
+/// skybox, relative to the scene file; to the current directory for standard
+/// input): a file larger than `--max-scene-bytes` is refused before it is read.
+/// Parse errors come back as `PATH:LINE:COL: message` with the bad-scene exit
+/// code; a missing or corrupt skybox image with the I/O exit code, naming it.
+pub fn load_scene_with(
+    path: &Path,
+    limits: &SceneLimitArgs,
+    fingerprint: Fingerprint,
+) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
@@ -32,13 +53,45 @@ pub fn load_scene_with(path: &Path, limits: &SceneLimitArgs) -> Result<LoadedSce
     };
     let bytes = read_input(path, &name, limits.max_scene_bytes)?;
     let t0 = Instant::now();
-    let scene = nffrt::nff::parse_bytes_with(&bytes, &limits.parse_limits())
-        .map_err(|e| CliError::scene(format!("{name}:{}:{}: {}", e.line, e.column, e.kind)))?;
+    let stdin = path == Path::new("-");
+    let format = limits
+        .format
+        .map(Format::from)
+        .unwrap_or_else(|| Format::of_path(path));
+    let dir = if stdin { None } else { path.parent() };
+    let scene = load_bytes(&bytes, format, &name, dir, &limits.parse_limits()).map_err(|e| match e {
+        LoadError::Parse { .. } => CliError::scene(e.to_string()),
+        LoadError::Io { .. } | LoadError::Asset { .. } => CliError::io(e.to_string()),
+    })?;
+    let parse_s = t0.elapsed().as_secs_f64();
+    let fingerprint = (fingerprint == Fingerprint::Scene).then(|| scene_fingerprint(&bytes, &scene));
     Ok(LoadedScene {
         scene,
         name,
-        parse_s: t0.elapsed().as_secs_f64(),
+        parse_s,
+        fingerprint,
     })
+}
+
+/// The fingerprint of a loaded scene: its file's bytes and, for a skybox, the size
+/// and pixels of each face.
+fn scene_fingerprint(bytes: &[u8], scene: &Scene) -> u64 {
+    let sky = scene.environment.as_ref().and_then(|e| e.skybox.as_deref());
+    let sizes: Vec<[u8; 8]> = sky
+        .map(|s| s.faces.iter().map(|f| pack(f.width, f.height)).collect())
+        .unwrap_or_default();
+    let mut named: Vec<&[u8]> = Vec::new();
+    if let Some(s) = sky {
+        for (face, size) in s.faces.iter().zip(&sizes) {
+            named.push(size);
+            named.push(&face.rgb);
+        }
+    }
+    nffrt::fingerprint::scene_fingerprint_with(bytes, &named)
+}
+
+fn pack(width: u32, height: u32) -> [u8; 8] {
+    ((width as u64) << 32 | height as u64).to_le_bytes()
 }
 
 /// Reads at most `max_bytes` (one more byte means the input is too large, whatever
@@ -113,5 +166,8 @@ pub fn build_bvh(scene: &mut Scene) -> Bvh {
     scene.patches = Vec::new();
     scene.planes = Vec::new();
     scene.boxes = Vec::new();
+    scene.meshes = Vec::new();
+    scene.mesh_vertices = Vec::new();
+    scene.mesh_triangles = Vec::new();
     Bvh::new(geometry)
 }

@@ -2,9 +2,9 @@
 //! full image, byte-identical to rendering it whole.
 //!
 //! Each tile records its region and the full size in a `nffrt:region` text chunk and
-//! its sampling settings in `nffrt:options`. The tiles must agree on both, lie inside
-//! the image, not overlap and cover it; the merged PNG carries only the text chunks
-//! of a full render.
+//! the fingerprints of its scene and render options in `nffrt:fingerprint`. The tiles
+//! must agree on both, lie inside the image, not overlap and cover it; the merged PNG
+//! carries only the text chunks of a full render.
 
 use std::path::PathBuf;
 
@@ -14,7 +14,9 @@ use super::image_out::{display_name, format_of, Destination, Format, SOFTWARE_TE
 use super::output::brief;
 use super::CliError;
 use nffrt::image::decode_png;
-use nffrt::image::tiles::{merge_tiles, parse_region_text, Tile, OPTIONS_KEY, REGION_KEY};
+use nffrt::image::tiles::{
+    merge_tiles, parse_region_text, Tile, TileFingerprint, FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
+};
 
 /// Arguments of `nffrt merge`.
 #[derive(Args, Debug)]
@@ -75,12 +77,21 @@ fn read_tile(path: &PathBuf) -> Result<Tile, CliError> {
             png.width, png.height
         )));
     }
+    let fingerprint = png.text(FINGERPRINT_KEY).ok_or_else(|| {
+        CliError::scene(format!(
+            "{name}: the tile has no scene fingerprint (no {FINGERPRINT_KEY} text chunk: \
+             an older nffrt made it); render it again"
+        ))
+    })?;
+    let fingerprint =
+        TileFingerprint::parse(fingerprint).map_err(|e| CliError::scene(format!("{name}: {e}")))?;
     Ok(Tile {
         name,
         region,
         full_width,
         full_height,
-        options: png.text(OPTIONS_KEY).map(str::to_string),
+        fingerprint,
+        settings: png.text(OPTIONS_KEY).unwrap_or("not recorded").to_string(),
         rgb: png.rgb,
     })
 }

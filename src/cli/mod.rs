@@ -25,6 +25,8 @@ mod output;
 mod pixel;
 mod progress;
 mod render;
+mod stats;
+mod values;
 
 use clap::{Parser, Subcommand};
 
@@ -77,7 +79,7 @@ impl CliError {
 
 /// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
 #[derive(Parser, Debug)]
-#[command(name = "nffrt", version, about, long_about = None)]
+#[command(name = "nffrt", version, about, long_about = None, propagate_version = true)]
 #[command(
     after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
 Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png"
@@ -117,11 +119,21 @@ pub fn run() -> i32 {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) if e.use_stderr() => {
-            eprintln!("nffrt: error: {} (see nffrt --help)", usage_line(&e));
+            let suggestion = suggestion(&e).map(|s| format!("; {s}")).unwrap_or_default();
+            eprintln!(
+                "nffrt: error: {}{suggestion} (see {} --help)",
+                usage_line(&e),
+                command_named()
+            );
             return exit::USAGE;
         }
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayVersion => {
+            // The same line after `nffrt --version` and `nffrt render --version`.
+            outln!("nffrt {}", env!("CARGO_PKG_VERSION"));
+            return exit::OK;
+        }
         Err(e) => {
-            // --help and --version.
+            // --help.
             let _ = e.print();
             return exit::OK;
         }
@@ -141,6 +153,36 @@ pub fn run() -> i32 {
             e.code
         }
     }
+}
+
+/// `nffrt SUBCOMMAND` when the command line names one (its help lists its options),
+/// otherwise `nffrt`.
+fn command_named() -> String {
+    let first = std::env::args_os().nth(1);
+    let first = first.as_ref().and_then(|a| a.to_str()).unwrap_or_default();
+    match <Cli as clap::CommandFactory>::command().find_subcommand(first) {
+        Some(sub) => format!("nffrt {}", sub.get_name()),
+        None => "nffrt".to_string(),
+    }
+}
+
+/// Clap's "did you mean" for a mistyped option, subcommand or value.
+fn suggestion(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue};
+    let kinds = [
+        ContextKind::SuggestedArg,
+        ContextKind::SuggestedSubcommand,
+        ContextKind::SuggestedValue,
+    ];
+    let names: Vec<String> = kinds.into_iter().find_map(|kind| match e.get(kind)? {
+        ContextValue::String(s) => Some(vec![s.clone()]),
+        ContextValue::Strings(v) if !v.is_empty() => Some(v.clone()),
+        ContextValue::StyledStr(s) => Some(vec![s.to_string()]),
+        ContextValue::StyledStrs(v) if !v.is_empty() => Some(v.iter().map(|s| s.to_string()).collect()),
+        _ => None,
+    })?;
+    let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+    Some(format!("did you mean {}?", quoted.join(" or ")))
 }
 
 /// The first line of clap's message, without its `error: ` prefix: one line per

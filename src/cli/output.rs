@@ -34,8 +34,7 @@ impl AtomicOutput {
             name.to_string_lossy(),
             std::process::id()
         ));
-        let file = File::create(&temp)
-            .map_err(|e| CliError::io(format!("{}: cannot write output: {}", dest.display(), brief(&e))))?;
+        let file = File::create(&temp).map_err(|e| cannot_write(dest.display(), &e))?;
         interrupt::register_temp(temp.clone());
         Ok(AtomicOutput {
             dest: dest.to_path_buf(),
@@ -51,13 +50,7 @@ impl AtomicOutput {
 
     /// Flushes, syncs and renames the temporary file onto the destination.
     pub fn commit(mut self) -> Result<(), CliError> {
-        let fail = |e: std::io::Error| {
-            CliError::io(format!(
-                "{}: cannot write output: {}",
-                self.dest.display(),
-                brief(&e)
-            ))
-        };
+        let fail = |e: std::io::Error| cannot_write(self.dest.display(), &e);
         let mut w = self.file.take().expect("committed twice");
         w.flush().map_err(fail)?;
         let f = w.into_inner().map_err(|e| fail(e.into_error()))?;
@@ -79,12 +72,13 @@ impl Drop for AtomicOutput {
     }
 }
 
+/// The one error for an output that cannot be written: `NAME: cannot write output:
+/// REASON`.
+pub fn cannot_write(name: impl std::fmt::Display, e: &std::io::Error) -> CliError {
+    CliError::io(format!("{name}: cannot write output: {}", brief(e)))
+}
+
 /// A short description of an I/O error.
 pub fn brief(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file or directory".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        std::io::ErrorKind::IsADirectory => "is a directory".into(),
-        _ => e.to_string(),
-    }
+    nffrt::io_reason(e)
 }

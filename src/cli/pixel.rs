@@ -4,24 +4,20 @@
 
 use std::io::Write;
 
-use super::load::{load_scene_with, print_warnings};
+use super::load::{load_scene_with, print_warnings, Fingerprint};
 use super::render::{render_options, RenderArgs};
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
-use nffrt::image::region::parse_u32s;
 use nffrt::render::debug::trace_pixel;
 
-/// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`.
-pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    let spec = args.pixel.as_deref().unwrap_or_default();
-    let loaded = load_scene_with(&args.scene, &args.limits.scene)?;
+/// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`
+/// on pixel `(x, y)`.
+pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
+    let loaded = load_scene_with(&args.scene, &args.limits.scene, Fingerprint::None)?;
     print_warnings(&loaded, 20);
     let scene = &loaded.scene;
     let opts = render_options(args, scene);
-    let xy =
-        parse_u32s(spec, 2).map_err(|e| CliError::usage(format!("--pixel '{spec}': {e} (expected X,Y)")))?;
-    let (x, y) = (xy[0], xy[1]);
     if x >= opts.width || y >= opts.height {
         return Err(CliError::usage(format!(
             "--pixel {x},{y} is outside the {}x{} image (columns 0..{}, rows 0..{})",

@@ -1,8 +1,9 @@
-//! The render's progress bar (only on a terminal, never with `--quiet`) and its
-//! cancellation check.
+//! The render's progress: a bar on a terminal, plain lines for logs with
+//! `--progress`, nothing with `--quiet`; and the render's cancellation check.
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -10,18 +11,34 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use super::interrupt;
 use nffrt::render::Observer;
 
+/// How progress is shown on standard error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProgressMode {
+    /// Not at all (`--quiet`).
+    Off,
+    /// A bar, only when standard error is a terminal.
+    Terminal,
+    /// A line per tenth of the rows, wherever standard error goes (`--progress`).
+    Lines,
+}
+
 /// Shows progress on standard error and stops the render on Ctrl-C / SIGTERM.
 pub struct Progress {
     bar: Option<ProgressBar>,
+    lines: bool,
+    rows: u64,
+    rows_done: AtomicU64,
+    /// The last tenth reported as a line (a lock, so lines come out in order).
+    tenths_shown: Mutex<u64>,
     rays: AtomicU64,
     start: Instant,
 }
 
 impl Progress {
-    /// A progress bar over `rows` rows, shown only if standard error is a terminal
-    /// and `quiet` is false.
-    pub fn new(rows: u64, quiet: bool) -> Progress {
-        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+    /// Progress over `rows` rows, shown as `mode` says.
+    pub fn new(rows: u64, mode: ProgressMode) -> Progress {
+        let on_terminal = mode == ProgressMode::Terminal && std::io::stderr().is_terminal();
+        let bar = on_terminal.then(|| {
             let bar = ProgressBar::with_draw_target(Some(rows), ProgressDrawTarget::stderr_with_hz(10));
             bar.set_style(
                 ProgressStyle::with_template(
@@ -34,6 +51,10 @@ impl Progress {
         });
         Progress {
             bar,
+            lines: mode == ProgressMode::Lines,
+            rows,
+            rows_done: AtomicU64::new(0),
+            tenths_shown: Mutex::new(0),
             rays: AtomicU64::new(0),
             start: Instant::now(),
         }
@@ -45,15 +66,39 @@ impl Progress {
             bar.finish_and_clear();
         }
     }
+
+    fn mrays_per_s(&self, rays: u64) -> f64 {
+        rays as f64 / self.start.elapsed().as_secs_f64().max(1e-9) / 1e6
+    }
+
+    /// Prints a line for each tenth of the rows completed since the last one printed.
+    fn report_line(&self, rows_done: u64, rays: u64) {
+        let tenths = rows_done * 10 / self.rows.max(1);
+        let Ok(mut shown) = self.tenths_shown.lock() else {
+            return;
+        };
+        if tenths > *shown {
+            *shown = tenths;
+            eprintln!(
+                "progress: {}% ({rows_done} of {} rows), {:.1} Mrays/s",
+                tenths * 10,
+                self.rows,
+                self.mrays_per_s(rays)
+            );
+        }
+    }
 }
 
 impl Observer for Progress {
     fn row_done(&self, rays: u64) {
         let total = self.rays.fetch_add(rays, Ordering::Relaxed) + rays;
+        let rows_done = self.rows_done.fetch_add(1, Ordering::Relaxed) + 1;
         if let Some(bar) = &self.bar {
-            let mrays = total as f64 / self.start.elapsed().as_secs_f64().max(1e-9) / 1e6;
-            bar.set_message(format!("{mrays:.1} Mrays/s"));
+            bar.set_message(format!("{:.1} Mrays/s", self.mrays_per_s(total)));
             bar.inc(1);
+        }
+        if self.lines {
+            self.report_line(rows_done, total);
         }
     }
 

@@ -5,22 +5,28 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
-use serde::Serialize;
 
-use super::image_out::{display_name, format_of, Destination, Format, SOFTWARE_TEXT};
+use super::image_out::{display_name, format_of, is_stdout, Destination, Format, SOFTWARE_TEXT};
 use super::limits::RenderLimitArgs;
-use super::load::{build_bvh, load_scene_with, print_warnings};
-use super::output::AtomicOutput;
-use super::progress::Progress;
+use super::load::{build_bvh, load_scene_with, print_warnings, Fingerprint};
+use super::output::{cannot_write, AtomicOutput};
+use super::progress::{Progress, ProgressMode};
+use super::stats::{self, StatsReport};
+use super::values::{self, whole_number};
 use super::{interrupt, pixel, CliError};
-use nffrt::image::{tiles, Region};
-use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, Stats, DEFAULT_MAX_DEPTH};
+use nffrt::fingerprint::{options_fingerprint, options_text};
+use nffrt::image::tiles::{self, TileFingerprint};
+use nffrt::image::Region;
+use nffrt::nff::MAX_RESOLUTION;
+use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, DEFAULT_MAX_DEPTH};
 use nffrt::Scene;
 
 /// The deepest ray tree allowed (keeps the recursion far from the stack limit).
 pub const MAX_DEPTH_CAP: u32 = 64;
 /// The most samples per pixel `--spp` accepts.
 pub const MAX_SPP: u32 = 4096;
+/// The most worker threads `--threads` accepts.
+pub const MAX_THREADS: u32 = 1024;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
@@ -29,43 +35,72 @@ pub struct RenderArgs {
     pub scene: PathBuf,
     /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float); `-` writes
     /// PNG to standard output. Default: the scene's file stem + .png in the current
-    /// directory.
-    #[arg(short, long)]
+    /// directory, or with --region the stem + .X0-Y0-X1-Y1.png (a tile never takes
+    /// the full picture's name).
+    #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Image width (default: the scene's resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    /// Image width, 1 to 32768 (default: the scene's). Given alone, the height follows
+    /// the scene's aspect ratio; with --height, both are exact.
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_RESOLUTION as u64))]
     pub width: Option<u32>,
-    /// Image height (default: the scene's resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=32768))]
+    /// Image height, 1 to 32768 (default: the scene's). Given alone, the width follows
+    /// the scene's aspect ratio; with --width, both are exact.
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_RESOLUTION as u64))]
     pub height: Option<u32>,
-    /// Maximum ray-tree depth; the eye ray is depth 1.
-    #[arg(long, default_value_t = DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH_CAP as i64))]
+    /// Maximum ray-tree depth, 1 to 64; the eye ray is depth 1.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH, allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_DEPTH_CAP as u64))]
     pub max_depth: u32,
-    /// Worker threads for parsing (files of 1 MiB or more), building and rendering
-    /// (default: one per core).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Worker threads for parsing (files of 1 MiB or more), building and rendering,
+    /// 1 to 1024 (default: one per core).
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_THREADS as u64))]
     pub threads: Option<u32>,
     /// SPD benchmark protocol: rays through the (w+1) x (h+1) pixel corners, the four
     /// corners averaged into each pixel.
     #[arg(long)]
     pub spd: bool,
-    /// Samples per pixel: stratified jittered supersampling, box-filtered, the same
-    /// image on every run and thread count (1: pixel centres).
-    #[arg(long, value_name = "N", conflicts_with = "spd", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
+    /// Samples per pixel, 1 to 4096: stratified jittered supersampling, box-filtered,
+    /// the same image on every run and thread count (1: pixel centres).
+    #[arg(long, value_name = "N", conflicts_with = "spd", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_SPP as u64))]
     pub spp: Option<u32>,
+    /// Lens diameter in pixels of the view plane (depth of field; 0 is a pinhole).
+    /// Default: the scene's (P3F `aperture`), else 0.
+    #[arg(long, value_name = "PIXELS", value_parser = non_negative)]
+    pub aperture: Option<f32>,
+    /// Distance of the plane of sharp focus, as a multiple of the distance from the
+    /// camera to its look-at point. Default: the scene's (P3F `focal`), else 1.
+    #[arg(long, value_name = "RATIO", value_parser = positive)]
+    pub focal: Option<f32>,
+    /// Sample every area light on an N x N grid at every hit, whatever the sampling
+    /// (default: the light's own grid with one sample per pixel, one point per
+    /// sample with more); 1 to 64.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub light_samples: Option<u32>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
-    /// tile that records its place; `nffrt merge` assembles tiles.
-    #[arg(long, value_name = "X0,Y0,X1,Y1")]
-    pub region: Option<String>,
-    /// Trace only pixel X,Y and print its ray tree to standard output (no image).
-    #[arg(long, value_name = "X,Y", conflicts_with = "region")]
-    pub pixel: Option<String>,
-    /// Print a summary of ray counts and timings.
+    /// tile that records its place and a fingerprint of the scene and settings;
+    /// `nffrt merge` assembles tiles.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true, value_parser = values::region)]
+    pub region: Option<Region>,
+    /// Trace only pixel X,Y (column and row, from 0) and print its ray tree to standard
+    /// output: no image, so not with --output, --region, --stats or --stats-json.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = values::pixel,
+          conflicts_with_all = ["region", "output", "stats", "stats_json"])]
+    pub pixel: Option<(u32, u32)>,
+    /// Print the settings (size, region, sampling, depth), ray counts and timings; to
+    /// standard error when standard output carries the image or the JSON.
     #[arg(long)]
     pub stats: bool,
-    /// Write ray counts and timings as JSON to this file.
+    /// Write the same as JSON to FILE; `-` is standard output (not with `-o -`).
     #[arg(long, value_name = "FILE")]
     pub stats_json: Option<PathBuf>,
+    /// Report progress as plain lines on standard error (one per tenth of the rows),
+    /// also when it is not a terminal, as in a log file.
+    #[arg(long, conflicts_with = "quiet")]
+    pub progress: bool,
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
@@ -74,51 +109,78 @@ pub struct RenderArgs {
     pub limits: RenderLimitArgs,
 }
 
-/// Counts and timings, as written by `--stats-json`.
-#[derive(Serialize)]
-struct StatsJson {
-    #[serde(flatten)]
-    rays: Stats,
-    total_rays: u64,
-    width: u32,
-    height: u32,
-    max_depth: u32,
-    threads: usize,
-    primitives: usize,
-    parse_s: f64,
-    build_s: f64,
-    render_s: f64,
-    mrays_per_s: f64,
-}
-
-fn default_output(scene: &Path) -> PathBuf {
+/// The default output file: the scene's stem (`stdin` for standard input) + `.png`,
+/// or for a tile the stem + `.X0-Y0-X1-Y1.png`.
+fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     let stem = scene.file_stem().filter(|_| scene != Path::new("-"));
     let stem = stem
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "stdin".into());
-    PathBuf::from(format!("{stem}.png"))
+    match region {
+        Some(r) => PathBuf::from(format!("{stem}.{}-{}-{}-{}.png", r.x0, r.y0, r.x1, r.y1)),
+        None => PathBuf::from(format!("{stem}.png")),
+    }
 }
 
 /// The render settings `args` ask for on `scene`.
 pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
+    let (width, height) = image_size(args.width, args.height, scene.view.width, scene.view.height);
     RenderOptions {
-        width: args.width.unwrap_or(scene.view.width),
-        height: args.height.unwrap_or(scene.view.height),
+        width,
+        height,
         max_depth: args.max_depth,
-        sampling: match (args.spd, args.spp) {
+        // The file's `spp` (P3F) is the default; the flag wins.
+        sampling: match (args.spd, args.spp.or(scene.spp)) {
             (true, _) => Sampling::SpdCorners,
             (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
             _ => Sampling::PixelCenters,
         },
+        aperture: args.aperture,
+        focal: args.focal,
+        light_samples: args.light_samples,
+        ..Default::default()
+    }
+}
+
+/// A finite number of at least 0 (for `--aperture`).
+fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a finite number of at least 0")),
+    }
+}
+
+/// A finite number above 0 (for `--focal`).
+fn positive(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a finite number above 0")),
+    }
+}
+
+/// The image size from `--width` and `--height` over the scene's `scene_w` x `scene_h`:
+/// both given, exactly them; one alone, the other side keeps the scene's aspect ratio
+/// (rounded to the nearest pixel, 1 to [`MAX_RESOLUTION`]); neither, the scene's.
+fn image_size(width: Option<u32>, height: Option<u32>, scene_w: u32, scene_h: u32) -> (u32, u32) {
+    // `given` pixels along a side of `side` scene pixels: the other side, `other` long.
+    let follow = |given: u32, side: u32, other: u32| {
+        let (given, side, other) = (given as u64, side.max(1) as u64, other as u64);
+        ((given * other + side / 2) / side).clamp(1, MAX_RESOLUTION as u64) as u32
+    };
+    match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, follow(w, scene_w, scene_h)),
+        (None, Some(h)) => (follow(h, scene_h, scene_w), h),
+        (None, None) => (scene_w, scene_h),
     }
 }
 
 /// Runs `nffrt render`.
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
-    if args.pixel.is_some() {
-        return pixel::run(&args);
+    if let Some(xy) = args.pixel {
+        return pixel::run(&args, xy);
     }
-    let out_path = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
+    let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
     if args.region.is_some() && format != Format::Png {
         return Err(CliError::usage(format!(
@@ -126,26 +188,38 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             out_path.display()
         )));
     }
+    let json_to_stdout = args.stats_json.as_deref().is_some_and(is_stdout);
+    if json_to_stdout && is_stdout(&out_path) {
+        return Err(CliError::usage(
+            "--stats-json - and -o - both ask for standard output; send one of them to a file",
+        ));
+    }
     // One pool for parsing (large files go in pieces), building and rendering.
     let threads = args.threads.map(|t| t as usize).unwrap_or_else(num_cpus);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
-    let mut loaded = pool.install(|| load_scene_with(&args.scene, &args.limits.scene))?;
+    let fingerprint = if args.region.is_some() {
+        Fingerprint::Scene
+    } else {
+        Fingerprint::None
+    };
+    let mut loaded = pool.install(|| load_scene_with(&args.scene, &args.limits.scene, fingerprint))?;
     print_warnings(&loaded, 20);
     let scene = &loaded.scene;
     let opts = render_options(&args, scene);
     let full = Region::full(opts.width, opts.height);
-    let region = match &args.region {
-        Some(s) => Region::parse_within(s, opts.width, opts.height).map_err(CliError::usage)?,
-        None => full,
-    };
+    let region = args.region.unwrap_or(full);
+    region
+        .check_within(opts.width, opts.height)
+        .map_err(CliError::usage)?;
     let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
     (args.limits).check_pixels(region.width(), region.height(), opts.sampling, sized_by_flags)?;
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
-    let mut stats_out = args.stats_json.as_deref().map(AtomicOutput::create).transpose()?;
+    let stats_file = args.stats_json.as_deref().filter(|p| !is_stdout(p));
+    let mut stats_out = stats_file.map(AtomicOutput::create).transpose()?;
 
     let t0 = Instant::now();
     let bvh = pool.install(|| build_bvh(&mut loaded.scene));
@@ -153,43 +227,38 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let build_s = t0.elapsed().as_secs_f64();
     interrupt::check()?;
     let t1 = Instant::now();
-    let progress = Progress::new(region_eye_rows(&opts, &region), args.quiet);
+    let progress = Progress::new(region_eye_rows(&opts, &region), progress_mode(&args));
     let rendered = pool.install(|| render_region(scene, &bvh, &opts, &region, &progress));
     progress.finish();
-    let (image, stats) =
+    let (image, rays) =
         rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
     let render_s = t1.elapsed().as_secs_f64();
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
-    if args.region.is_some() {
-        text.push((
-            tiles::REGION_KEY,
-            tiles::region_text(&region, opts.width, opts.height),
-        ));
-        text.push((tiles::OPTIONS_KEY, tile_options(&opts)));
+    if let Some(scene_print) = loaded.fingerprint {
+        text.extend(tile_text(&region, &opts, scene_print));
     }
     output.write_image(&image, format, &text)?;
 
-    let report = StatsJson {
-        rays: stats,
-        total_rays: stats.total_rays(),
-        width: opts.width,
-        height: opts.height,
-        max_depth: opts.max_depth,
-        threads,
-        primitives: bvh.primitive_count(),
-        parse_s: loaded.parse_s,
-        build_s,
-        render_s,
-        mrays_per_s: stats.total_rays() as f64 / render_s.max(1e-9) / 1e6,
-    };
-    if let Some(mut out) = stats_out.take() {
-        let json = serde_json::to_string_pretty(&report).expect("plain data serializes");
-        writeln!(out.writer(), "{json}").map_err(|e| CliError::io(format!("writing stats: {e}")))?;
+    let report = StatsReport::new(
+        stats::settings(&opts, &region, threads, scene),
+        bvh.primitive_count(),
+        rays,
+        [loaded.parse_s, build_s, render_s],
+    );
+    if let (Some(mut out), Some(path)) = (stats_out.take(), stats_file) {
+        writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;
+    } else if json_to_stdout {
+        outln!("{}", report.json());
     }
     if args.stats {
-        print_stats(&report);
+        // Standard output carrying an image or JSON holds nothing else.
+        if is_stdout(&out_path) || json_to_stdout {
+            eprintln!("{}", report.text());
+        } else {
+            outln!("{}", report.text());
+        }
     }
     if !args.quiet {
         let crop = if region == full {
@@ -212,37 +281,29 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The settings that change a tile's pixels; `nffrt merge` refuses tiles that differ.
-fn tile_options(opts: &RenderOptions) -> String {
-    format!("sampling={} max-depth={}", opts.sampling, opts.max_depth)
+/// The text chunks of a tile: its place, its fingerprint (the scene's and that of
+/// every option), and the options in words.
+fn tile_text(region: &Region, opts: &RenderOptions, scene: u64) -> [(&'static str, String); 3] {
+    let fingerprint = TileFingerprint {
+        scene,
+        options: options_fingerprint(opts),
+    };
+    [
+        (
+            tiles::REGION_KEY,
+            tiles::region_text(region, opts.width, opts.height),
+        ),
+        (tiles::FINGERPRINT_KEY, fingerprint.to_string()),
+        (tiles::OPTIONS_KEY, options_text(opts)),
+    ]
 }
 
-fn print_stats(r: &StatsJson) {
-    let s = &r.rays;
-    outln!(
-        "image            {} x {}, depth {}, {} threads",
-        r.width,
-        r.height,
-        r.max_depth,
-        r.threads
-    );
-    outln!("primitives       {}", r.primitives);
-    outln!("eye rays         {} ({} hit)", s.eye_rays, s.eye_hits);
-    outln!("reflection rays  {}", s.reflection_rays);
-    outln!("refraction rays  {}", s.refraction_rays);
-    outln!(
-        "shadow rays      {} ({} blocked)",
-        s.shadow_rays,
-        s.shadow_blocked
-    );
-    outln!("total rays       {}", r.total_rays);
-    outln!(
-        "parse / build / render  {:.3} / {:.3} / {:.3} s",
-        r.parse_s,
-        r.build_s,
-        r.render_s
-    );
-    outln!("speed            {:.2} Mrays/s", r.mrays_per_s);
+fn progress_mode(args: &RenderArgs) -> ProgressMode {
+    match (args.quiet, args.progress) {
+        (true, _) => ProgressMode::Off,
+        (false, true) => ProgressMode::Lines,
+        (false, false) => ProgressMode::Terminal,
+    }
 }
 
 fn num_cpus() -> usize {

@@ -68,6 +68,7 @@ impl Surface {
         Material {
             color: Vec3::new(spd_round(r), spd_round(g), spd_round(b)),
             kd: spd_round(self.kd),
+            specular: Vec3::ONE,
             ks: spd_round(self.ks),
             shine: spd_round(shine),
             t: spd_round(self.t),
@@ -99,13 +100,11 @@ impl Builder {
             hither: spd_round(camera.hither),
             width: 512,
             height: 512,
+            ..View::default()
         };
         let lights = lights
             .iter()
-            .map(|&p| Light {
-                position: spd_round3(p),
-                color: None,
-            })
+            .map(|&p| Light::point(spd_round3(p), None))
             .collect();
         let scene = Scene {
             view,

@@ -1,6 +1,6 @@
 //! Built-in generators for the seven classic scenes of Eric Haines' Standard
 //! Procedural Databases (SPD 3.14): `balls`, `gears`, `mount`, `rings`, `teapot`,
-//! `tetra` and `tree`, at any size.
+//! `tetra` and `tree`, at every size that keeps a scene within [`MAX_PRIMITIVES`].
 //!
 //! Each generator follows the published description of the SPD's algorithm and
 //! makes the same scene as the SPD program: the same camera, lights, background and
@@ -64,19 +64,30 @@ pub enum SpdScene {
 /// Why a scene cannot be generated.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum GenError {
-    /// The size is outside what the generator accepts.
-    #[error(
-        "size {size} is out of range for {scene}: sizes go from 1 to {max} (size {next} would make \
-         {next_count} primitives, over the limit of {limit})",
-        scene = .scene.name(), max = .scene.max_size(), next = .scene.max_size() + 1,
-        next_count = .scene.primitive_count(.scene.max_size() + 1), limit = MAX_PRIMITIVES
-    )]
+    /// The size is outside what the generator accepts. The message says the range and,
+    /// for a size above it, why: `must be a whole number from 1 to 7 for balls (size 8
+    /// would already make 48427562 primitives, over the limit of 10000000)`.
+    #[error("{}", size_range_words(*.scene, *.size))]
     SizeOutOfRange {
         /// The scene asked for.
         scene: SpdScene,
         /// The size asked for.
         size: u32,
     },
+}
+
+/// The message of [`GenError::SizeOutOfRange`].
+fn size_range_words(scene: SpdScene, size: u32) -> String {
+    let (name, max) = (scene.name(), scene.max_size());
+    let mut words = format!("must be a whole number from 1 to {max} for {name}");
+    if size > max {
+        words.push_str(&format!(
+            " (size {} would already make {} primitives, over the limit of {MAX_PRIMITIVES})",
+            max + 1,
+            scene.primitive_count(max + 1)
+        ));
+    }
+    words
 }
 
 impl SpdScene {

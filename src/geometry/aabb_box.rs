@@ -111,6 +111,28 @@ impl BoxShape {
     }
 }
 
+impl BoxShape {
+    /// The displacement off the box at `p` by `error`, to the side of the hit face's
+    /// outward normal `normal`: outward along that face and along every other face
+    /// whose plane lies within `error` of `p` (the faces of an edge or a corner that
+    /// `p` may lie on). Away from edges it is `normal * error`.
+    #[inline]
+    pub fn origin_offset(&self, p: Vec3, normal: Vec3, error: f32) -> Vec3 {
+        let mut o = (normal * error).to_array();
+        for i in 0..3 {
+            if o[i] != 0.0 {
+                continue;
+            }
+            if (p[i] - self.max[i]).abs() <= error {
+                o[i] = error;
+            } else if (p[i] - self.min[i]).abs() <= error {
+                o[i] = -error;
+            }
+        }
+        Vec3::from_array(o)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

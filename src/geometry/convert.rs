@@ -10,14 +10,15 @@
 //! | `p n`, self-intersecting | one [`PolygonShape`] (crossings test, even-odd rule) |
 //! | `pp n` | a fan of [`Triangle`]s with vertex normals in [`GeometryData::patch_normals`] |
 //! | `pl` | one [`PlaneShape`] |
-//! | `aabb` | one [`BoxShape`] |
+//! | `aabb`, P3F `box` | one [`BoxShape`] |
+//! | P3F `mesh` | one flat [`Triangle`] per triangle, with the line of its indices |
 //!
 //! Patches always become fans: the SPD's patches are triangles and a patch is meant
 //! to be a small convex piece of a smooth surface. A concave patch is therefore
 //! covered by its fan as well, which is wrong in its notches; this is accepted.
 //!
 //! Primitives come out kind by kind (spheres, cones, polygons, patches, planes,
-//! boxes), each kind in file order, so the result is deterministic.
+//! boxes, mesh triangles), each kind in file order, so the result is deterministic.
 
 use super::{
     BoxShape, ConeShape, Geometry, GeometryData, PlaneShape, PolygonShape, Primitive, Shape, SourceKind,
@@ -95,6 +96,13 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
     for b in &scene.boxes {
         let shape = Shape::Box(BoxShape::new(b.min, b.max));
         push(shape, b.material, b.line, SourceKind::Box);
+    }
+    for m in &scene.meshes {
+        for t in scene.mesh_triangles_of(m) {
+            let [a, b, c] = t.vertices.map(|i| scene.mesh_vertices[i as usize]);
+            let tri = Triangle::new(a, b, c, Triangle::FLAT);
+            push(Shape::Triangle(tri), m.material, t.line, SourceKind::Mesh);
+        }
     }
     g
 }

@@ -98,8 +98,10 @@ pub enum SourceKind {
     Cone,
     /// `pl`
     Plane,
-    /// `aabb`
+    /// `aabb` (P3F `box`)
     Box,
+    /// a triangle of a P3F `mesh`
+    Mesh,
 }
 
 /// One render-time primitive: its shape, material and provenance.
@@ -116,6 +118,18 @@ pub struct Primitive {
 }
 
 const _: () = assert!(std::mem::size_of::<Primitive>() <= 64);
+
+/// Relative error bound of a hit point `p = o + t d` as the intersectors compute it
+/// (the rounding of the point's arithmetic and of `t` itself), see [`point_error`].
+const POINT_ERROR_REL: f32 = 4e-6;
+
+/// A bound on the floating-point error of each coordinate of the hit point `p` of
+/// `ray` at distance `t`: proportional to the magnitudes involved in computing it,
+/// so it holds for tiny and huge scenes alike (no global epsilon).
+#[inline]
+pub fn point_error(p: Vec3, ray: &Ray, t: f32) -> f32 {
+    POINT_ERROR_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
+}
 
 impl Primitive {
     /// Bounding box; `None` for unbounded shapes (planes).
@@ -141,6 +155,20 @@ impl Primitive {
             Shape::Cone(s) => s.intersect(ray, t_max),
             Shape::Plane(s) => s.intersect(ray, t_max),
             Shape::Box(s) => s.intersect(ray, t_max),
+        }
+    }
+
+    /// The displacement that moves a secondary ray's origin off the surface at
+    /// `s.point`, to the side `s.normal` points to, by `error`, the point's
+    /// floating-point error bound ([`point_error`]): along the normal, as pbrt-v4's
+    /// `OffsetRayOrigin` does; for a box also off every other face the bound cannot
+    /// rule out (at an edge or a corner the point may lie on two or three faces, and
+    /// a ray leaving from one must not start on another).
+    #[inline]
+    pub fn origin_offset(&self, s: &Surface, error: f32) -> Vec3 {
+        match &self.shape {
+            Shape::Box(b) => b.origin_offset(s.point, s.normal, error),
+            _ => s.normal * error,
         }
     }
 

@@ -1,5 +1,5 @@
-//! Images: the linear floating-point framebuffer, its encoders and decoders, and
-//! the tiles of a split render.
+//! Images: the linear floating-point framebuffer, its encoders and decoders, the
+//! tiles of a split render, and the skybox cube map.
 //!
 //! Colour mapping (one documented choice): each linear channel is clamped to [0, 1],
 //! multiplied by 255 and rounded to the nearest integer. No gamma curve is applied:
@@ -11,6 +11,7 @@ mod pfm;
 mod png;
 mod ppm;
 pub mod region;
+pub mod skybox;
 pub mod tiles;
 
 pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};

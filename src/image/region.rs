@@ -58,7 +58,14 @@ impl Region {
     /// Parses `X0,Y0,X1,Y1` and checks it is a non-empty crop of a `width` x `height`
     /// image.
     pub fn parse_within(s: &str, width: u32, height: u32) -> Result<Region, String> {
-        let v = parse_u32s(s, 4).map_err(|e| format!("region '{s}': {e} (expected X0,Y0,X1,Y1)"))?;
+        let r = Region::parse(s)?;
+        r.check_within(width, height)?;
+        Ok(r)
+    }
+
+    /// Parses `X0,Y0,X1,Y1` and checks the region is not empty.
+    pub fn parse(s: &str) -> Result<Region, String> {
+        let v = parse_u32s(s, 4).map_err(|e| format!("{e} (X0,Y0,X1,Y1)"))?;
         let r = Region {
             x0: v[0],
             y0: v[1],
@@ -70,10 +77,17 @@ impl Region {
                 "region {r} is empty (need X0 < X1 and Y0 < Y1; X1 and Y1 are exclusive)"
             ));
         }
-        if r.x1 > width || r.y1 > height {
-            return Err(format!("region {r} does not fit in the {width}x{height} image"));
-        }
         Ok(r)
+    }
+
+    /// Checks that the region lies inside a `width` x `height` image.
+    pub fn check_within(&self, width: u32, height: u32) -> Result<(), String> {
+        if self.x1 > width || self.y1 > height {
+            return Err(format!(
+                "region {self} does not fit in the {width}x{height} image"
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -83,17 +97,26 @@ impl fmt::Display for Region {
     }
 }
 
-/// Parses exactly `n` comma-separated unsigned integers.
+/// Parses exactly `n` comma-separated whole numbers (0 or more); the error says
+/// what is wrong in words.
 pub fn parse_u32s(s: &str, n: usize) -> Result<Vec<u32>, String> {
-    let v: Vec<u32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<u32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("not {n} comma-separated whole numbers"))?;
-    if v.len() != n {
-        return Err(format!("{} numbers, not {n}", v.len()));
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != n {
+        let found = match parts.len() {
+            1 => "1 number".to_string(),
+            k => format!("{k} numbers"),
+        };
+        return Err(format!(
+            "expected {n} comma-separated whole numbers, found {found}"
+        ));
     }
-    Ok(v)
+    parts
+        .iter()
+        .map(|p| {
+            p.parse::<u32>()
+                .map_err(|_| format!("'{p}' is not a whole number from 0 to {}", u32::MAX))
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -112,8 +135,16 @@ mod tests {
         assert!(Region::parse_within("5,0,5,10", 64, 64)
             .unwrap_err()
             .contains("empty"));
-        assert!(Region::parse_within("1,2,3", 64, 64).is_err());
-        assert!(Region::parse_within("1,2,3,-4", 64, 64).is_err());
+        assert!(Region::parse_within("1,2,3", 64, 64)
+            .unwrap_err()
+            .contains("expected 4 comma-separated whole numbers, found 3 numbers"));
+        assert!(Region::parse_within("1,2,3,-4", 64, 64)
+            .unwrap_err()
+            .contains("'-4' is not a whole number"));
+        assert_eq!(
+            parse_u32s("4", 2).unwrap_err(),
+            "expected 2 comma-separated whole numbers, found 1 number"
+        );
     }
 
     #[test]

@@ -1,21 +1,59 @@
 //! Tiles of a render split across machines: the metadata each tile PNG carries and
 //! the assembly of tiles into the full image.
 //!
-//! A tile is an ordinary 8-bit RGB PNG of its region with a text chunk
+//! A tile is an ordinary 8-bit RGB PNG of its region with three text chunks:
 //! [`REGION_KEY`] = `X0,Y0,X1,Y1,W,H` (the region, half-open, and the full image
-//! size) and [`OPTIONS_KEY`] (the render settings that affect pixels, which must
-//! agree between tiles). [`merge_tiles`] checks that the tiles agree on the full
-//! size and settings, lie inside it, do not overlap and cover it, then copies them
-//! into place.
+//! size), [`FINGERPRINT_KEY`] = `scene=HEX options=HEX` (see [`crate::fingerprint`]:
+//! the scene it was rendered from and every option that changes pixels) and
+//! [`OPTIONS_KEY`] (those options in words, for people and error messages).
+//! [`merge_tiles`] checks that the tiles agree on the full size and fingerprint, lie
+//! inside the image, do not overlap and cover it, then copies them into place.
+
+use std::fmt;
 
 use super::region::{parse_u32s, Region};
 
 /// PNG text keyword of a tile's placement: `X0,Y0,X1,Y1,W,H`.
 pub const REGION_KEY: &str = "nffrt:region";
-/// PNG text keyword of the settings a tile was rendered with.
+/// PNG text keyword of the settings a tile was rendered with (readable; not compared).
 pub const OPTIONS_KEY: &str = "nffrt:options";
+/// PNG text keyword of a tile's [`TileFingerprint`].
+pub const FINGERPRINT_KEY: &str = "nffrt:fingerprint";
 
-/// One tile: where it goes and its pixels.
+/// What a tile was made from: tiles merge only when these are equal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TileFingerprint {
+    /// [`crate::fingerprint::scene_fingerprint`] of the scene.
+    pub scene: u64,
+    /// [`crate::fingerprint::options_fingerprint`] of the render options.
+    pub options: u64,
+}
+
+impl fmt::Display for TileFingerprint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "scene={:016x} options={:016x}", self.scene, self.options)
+    }
+}
+
+impl TileFingerprint {
+    /// Parses the text of a [`FINGERPRINT_KEY`] chunk (as [`fmt::Display`] writes it).
+    pub fn parse(s: &str) -> Result<TileFingerprint, String> {
+        let bad = || format!("bad {FINGERPRINT_KEY} '{s}' (expected scene=HEX options=HEX)");
+        let (scene, options) = s.split_once(' ').ok_or_else(bad)?;
+        let hex = |part: &str, key: &str| {
+            part.strip_prefix(key)
+                .filter(|h| h.len() == 16)
+                .and_then(|h| u64::from_str_radix(h, 16).ok())
+                .ok_or_else(bad)
+        };
+        Ok(TileFingerprint {
+            scene: hex(scene, "scene=")?,
+            options: hex(options, "options=")?,
+        })
+    }
+}
+
+/// One tile: where it goes, what it was made from and its pixels.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Tile {
     /// A name for error messages (the file name).
@@ -26,8 +64,10 @@ pub struct Tile {
     pub full_width: u32,
     /// Full image height.
     pub full_height: u32,
-    /// The render settings recorded in the tile, if any.
-    pub options: Option<String>,
+    /// The scene and options the tile was rendered from.
+    pub fingerprint: TileFingerprint,
+    /// The render settings in words, as recorded in the tile (for messages).
+    pub settings: String,
     /// `region.width() * region.height() * 3` bytes, top row first.
     pub rgb: Vec<u8>,
 }
@@ -46,6 +86,52 @@ pub fn parse_region_text(s: &str) -> Result<(Region, u32, u32), String> {
     Ok((r, w, h))
 }
 
+/// The first tile that disagrees with the others on `key`, and a tile it disagrees
+/// with: `(odd, reference, odd_is_alone)`. The reference holds the value most tiles
+/// share; when no value has a majority over the rest, the odd one cannot be told
+/// apart and `odd_is_alone` is false.
+fn odd_one_out<K: PartialEq>(tiles: &[Tile], key: impl Fn(&Tile) -> K) -> Option<(usize, usize, bool)> {
+    let keys: Vec<K> = tiles.iter().map(&key).collect();
+    let count = |k: &K| keys.iter().filter(|o| *o == k).count();
+    let (reference, most) = (0..keys.len())
+        .map(|i| (i, count(&keys[i])))
+        .fold((0, 0), |best, c| if c.1 > best.1 { c } else { best });
+    let odd = (0..keys.len()).find(|&i| keys[i] != keys[reference])?;
+    let runner_up = (0..keys.len())
+        .filter(|&i| keys[i] != keys[reference])
+        .map(|i| count(&keys[i]))
+        .max()
+        .unwrap_or(0);
+    Some((odd, reference, most > runner_up))
+}
+
+/// Refuses tiles made from different scenes or with different settings, naming the
+/// odd tile (the one that differs from most of the others).
+fn check_fingerprints(tiles: &[Tile]) -> Result<(), String> {
+    if let Some((odd, reference, alone)) = odd_one_out(tiles, |t| t.fingerprint.scene) {
+        let (a, b) = (&tiles[odd], &tiles[reference]);
+        return Err(if alone {
+            format!(
+                "{} comes from a different scene (fingerprint {:016x}) than the other tiles, e.g. {} ({:016x})",
+                a.name, a.fingerprint.scene, b.name, b.fingerprint.scene
+            )
+        } else {
+            format!(
+                "{} and {} come from different scenes (fingerprints {:016x} and {:016x})",
+                b.name, a.name, b.fingerprint.scene, a.fingerprint.scene
+            )
+        });
+    }
+    if let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.fingerprint.options) {
+        let (a, b) = (&tiles[odd], &tiles[reference]);
+        return Err(format!(
+            "{} was rendered with different settings ({}) from {} ({})",
+            a.name, a.settings, b.name, b.settings
+        ));
+    }
+    Ok(())
+}
+
 /// Checks the tiles and assembles them: `(width, height, RGB bytes)` of the full image.
 pub fn merge_tiles(tiles: &[Tile]) -> Result<(u32, u32, Vec<u8>), String> {
     let first = tiles.first().ok_or("no tiles to merge")?;
@@ -57,15 +143,9 @@ pub fn merge_tiles(tiles: &[Tile]) -> Result<(u32, u32, Vec<u8>), String> {
                 t.name, t.full_width, t.full_height, first.name
             ));
         }
-        if t.options != first.options {
-            return Err(format!(
-                "{} was rendered with different settings ({}) from {} ({})",
-                t.name,
-                t.options.as_deref().unwrap_or("none recorded"),
-                first.name,
-                first.options.as_deref().unwrap_or("none recorded")
-            ));
-        }
+    }
+    check_fingerprints(tiles)?;
+    for t in tiles {
         let r = &t.region;
         if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
             return Err(format!("{}: region {r} does not fit in {w}x{h}", t.name));
@@ -146,7 +226,8 @@ mod tests {
             region: Region { x0, y0, x1, y1 },
             full_width: 4,
             full_height: 3,
-            options: Some("spp=1".into()),
+            fingerprint: TileFingerprint { scene: 1, options: 2 },
+            settings: "spp=1".into(),
             rgb,
         }
     }
@@ -179,10 +260,54 @@ mod tests {
         let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
         assert!(e.contains("5x3"), "{e}");
         let mut other = tile("b", 2, 0, 4, 3);
-        other.options = Some("spp=4".into());
+        other.fingerprint.options = 3;
+        other.settings = "spp=4".into();
         let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
-        assert!(e.contains("different settings (spp=4)"), "{e}");
+        assert!(
+            e.contains("b was rendered with different settings (spp=4) from a (spp=1)"),
+            "{e}"
+        );
         assert!(merge_tiles(&[]).is_err());
+    }
+
+    #[test]
+    fn a_tile_of_another_scene_is_named() {
+        // Three tiles, the middle one from another scene: it is the odd one, wherever
+        // it comes in the list.
+        let mut odd = tile("odd", 0, 1, 4, 2);
+        odd.fingerprint.scene = 9;
+        let (top, bottom) = (tile("top", 0, 0, 4, 1), tile("bottom", 0, 2, 4, 3));
+        for order in [
+            [odd.clone(), top.clone(), bottom.clone()],
+            [top.clone(), odd.clone(), bottom.clone()],
+            [top.clone(), bottom.clone(), odd.clone()],
+        ] {
+            let e = merge_tiles(&order).unwrap_err();
+            assert!(
+                e.starts_with("odd comes from a different scene (fingerprint 0000000000000009)"),
+                "{e}"
+            );
+        }
+        // Two tiles that disagree: neither can be called the odd one, both are named.
+        let e = merge_tiles(&[top, odd]).unwrap_err();
+        assert!(e.contains("top and odd come from different scenes"), "{e}");
+    }
+
+    #[test]
+    fn fingerprint_text_round_trips() {
+        let f = TileFingerprint {
+            scene: 0x0123_4567_89ab_cdef,
+            options: 42,
+        };
+        assert_eq!(f.to_string(), "scene=0123456789abcdef options=000000000000002a");
+        assert_eq!(TileFingerprint::parse(&f.to_string()), Ok(f));
+        for bad in [
+            "",
+            "scene=12 options=34",
+            "options=0123456789abcdef scene=0123456789abcdef",
+        ] {
+            assert!(TileFingerprint::parse(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

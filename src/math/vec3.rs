@@ -123,6 +123,20 @@ impl Vec3 {
         }
     }
 
+    /// Index (0, 1 or 2) of the component with the smallest absolute value (the
+    /// first on ties).
+    #[inline]
+    pub fn min_axis(self) -> usize {
+        let a = self.abs();
+        if a.x <= a.y && a.x <= a.z {
+            0
+        } else if a.y <= a.z {
+            1
+        } else {
+            2
+        }
+    }
+
     /// True when every component is finite.
     #[inline]
     pub fn is_finite(self) -> bool {

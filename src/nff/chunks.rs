@@ -2,8 +2,10 @@
 //! pass would give.
 //!
 //! A piece starts at the beginning of a line whose first token is one of the
-//! keywords no entity takes as an operand (`s c p pp pl aabb f l`), so the token
-//! stream splits cleanly and the parser stands between two entities there. A piece
+//! keywords no entity takes as an operand (`s c p pp pl aabb f l`: the keyword
+//! table's `starts_piece`), so the token stream splits cleanly and the parser stands
+//! between two entities there. Only NFF files are split (P3F files are small but for
+//! their meshes, which do not split). A piece
 //! after the first parses with no view, no material and no limits of its own in play:
 //! its objects before its first `f` take a placeholder material, resolved when the
 //! pieces are joined. Anything that would make the join differ from one pass — an
@@ -13,9 +15,11 @@
 
 use rayon::prelude::*;
 
+use super::keywords::starts_piece;
 use super::lexer::Lexer;
 use super::limits::Limits;
 use super::parser::{Parser, INHERITED_MATERIAL};
+use super::Format;
 use crate::scene::Scene;
 
 /// Files below this size are parsed in one pass (a few milliseconds).
@@ -60,10 +64,7 @@ fn line_start_for_piece(src: &[u8], from: usize) -> Option<usize> {
         let indent = rest.iter().take_while(|&&b| matches!(b, b' ' | b'\t')).count();
         let token = &rest[indent..];
         let word = token.iter().take_while(|&&b| !is_delimiter(b)).count();
-        if matches!(
-            &token[..word],
-            b"s" | b"c" | b"p" | b"pp" | b"pl" | b"aabb" | b"f" | b"l"
-        ) {
+        if starts_piece(&token[..word], Format::Nff) {
             return Some(at);
         }
         at += rest.iter().position(|&b| b == b'\n')? + 1;
@@ -88,7 +89,8 @@ pub(super) fn parse_pieces(src: &[u8], limits: &Limits, starts: &[(usize, u32)])
         .par_iter()
         .enumerate()
         .map(|(i, &(start, end, line))| {
-            let mut p = Parser::new(Lexer::starting_at(&src[..end], start, line), limits, i > 0);
+            let lexer = Lexer::starting_at(&src[..end], start, line);
+            let mut p = Parser::new(lexer, Format::Nff, limits, i > 0);
             p.run().ok().map(|()| p)
         })
         .collect::<Option<_>>()?;
@@ -96,6 +98,9 @@ pub(super) fn parse_pieces(src: &[u8], limits: &Limits, starts: &[(usize, u32)])
     let mut whole = parsed.next()?;
     for piece in parsed {
         join(&mut whole, piece)?;
+    }
+    if whole.entities == 0 {
+        return None;
     }
     let s = &whole.scene;
     let vertices = s.polygon_vertices.len() + s.patch_vertices.len();
@@ -117,9 +122,12 @@ fn join<'a>(whole: &mut Parser<'a>, piece: Parser<'a>) -> Option<()> {
     if piece.saw_view {
         return None;
     }
-    let p = piece.scene;
+    let mut p = piece.scene;
+    let background = p.background;
+    let warnings = std::mem::take(&mut p.warnings);
+    let p_materials = std::mem::take(&mut p.materials);
     let w = &mut whole.scene;
-    let shared = !p.materials.is_empty() && w.materials.last() == p.materials.first();
+    let shared = !p_materials.is_empty() && w.materials.last() == p_materials.first();
     let base = (w.materials.len() - usize::from(shared)) as u32;
     let inherited = whole.material;
     let mut unresolved = false;
@@ -130,52 +138,23 @@ fn join<'a>(whole: &mut Parser<'a>, piece: Parser<'a>) -> Option<()> {
         unresolved |= inherited.is_none();
         inherited.unwrap_or(0)
     };
-    let (polygon_base, patch_base) = (w.polygon_vertices.len() as u32, w.patch_vertices.len() as u32);
-    w.spheres.extend(p.spheres.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x
-    }));
-    w.cones.extend(p.cones.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x
-    }));
-    w.polygons.extend(p.polygons.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x.first += polygon_base;
-        x
-    }));
-    w.patches.extend(p.patches.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x.first += patch_base;
-        x
-    }));
-    w.planes.extend(p.planes.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x
-    }));
-    w.boxes.extend(p.boxes.into_iter().map(|mut x| {
-        x.material = material(x.material);
-        x
-    }));
+    w.append(p, &mut material);
     if unresolved {
         return None;
     }
     w.materials
-        .extend(p.materials.into_iter().skip(usize::from(shared)));
-    w.polygon_vertices.extend(p.polygon_vertices);
-    w.patch_vertices.extend(p.patch_vertices);
-    w.patch_normals.extend(p.patch_normals);
-    w.lights.extend(p.lights);
+        .extend(p_materials.into_iter().skip(usize::from(shared)));
     if piece.saw_background {
-        w.background = p.background;
+        w.background = background;
     }
     if let Some(m) = piece.material {
         whole.material = Some(m + base);
     }
-    for warning in p.warnings {
+    for warning in warnings {
         whole.warn((warning.line, warning.column), warning.message);
     }
     whole.warnings_left_out += piece.warnings_left_out;
+    whole.entities += piece.entities;
     whole.lexer = piece.lexer;
     Some(())
 }
@@ -226,7 +205,7 @@ s 3 3 3 0.5 # end
 ";
 
     fn one_pass(src: &[u8]) -> Scene {
-        parse_in_one_pass(src, &Limits::default()).unwrap()
+        parse_in_one_pass(src, Format::Nff, &Limits::default()).unwrap()
     }
 
     /// Line starts of `src` that can begin a piece, with their line numbers.

@@ -1,32 +1,72 @@
-//! The NFF keywords, one function per keyword; each quotes its syntax.
+//! The NFF keywords, most of them shared with P3F, one function per keyword; each
+//! quotes its syntax.
 
 use super::error::ParseError;
 use super::lexer::Token;
-use super::parser::{invalid, loc, parse_f32, Loc, Parser, MAX_RESOLUTION};
+use super::parser::{invalid, loc, Loc, Parser, MAX_RESOLUTION};
+use super::Format;
 use crate::math::Vec3;
-use crate::scene::{BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Sphere, View};
+use crate::scene::{AngleSpan, BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Sphere, View};
 
 impl Parser<'_> {
     /// `v from x y z at x y z up x y z angle deg hither d resolution w h`
-    /// (sub-keywords in any order; `hither` and `resolution` optional).
+    /// (sub-keywords in any order; `hither` and `resolution` optional); in P3F also
+    /// `aperture A focal F` (optional, default 0 and 1).
     pub(super) fn view(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.view_block(kw, "v", b"from")
+    }
+
+    /// The camera block of `v` (`from`) or P3F's `camera` (`eye`).
+    pub(super) fn view_block(&mut self, kw: &Token, name: &str, eye: &[u8]) -> Result<(), ParseError> {
         let at = loc(kw);
         if self.saw_view {
-            self.warn(at, "a second 'v' block replaces the first".into());
+            self.warn(at, format!("a second '{name}' block replaces the first"));
         }
         self.saw_view = true;
-        let mut v = View::default();
+        let p3f = self.format == Format::P3f;
+        let mut v = View {
+            angle_span: if p3f {
+                AngleSpan::ImageEdges
+            } else {
+                AngleSpan::PixelCentres
+            },
+            ..View::default()
+        };
         let (mut from, mut look_at, mut up, mut angle) = (None, None, None, None);
         loop {
             let mut peek = self.lexer.clone();
             let Some(t) = peek.next() else { break };
-            let field = match t.text {
-                b"from" | b"at" | b"up" | b"angle" | b"hither" | b"resolution" => t.text,
-                _ => break,
+            let known = match t.text {
+                b"at" | b"up" | b"angle" | b"hither" | b"resolution" => true,
+                b"aperture" | b"focal" => p3f,
+                other => other == eye,
             };
+            if !known {
+                break;
+            }
             self.lexer = peek;
-            match field {
-                b"from" => from = Some(self.vec3("'from' x y z")?),
+            match t.text {
+                b"aperture" => {
+                    let value_at = self.lexer.clone().next().map_or(loc(&t), |n| loc(&n));
+                    v.aperture = self.number("'aperture' in pixels")?;
+                    if v.aperture < 0.0 {
+                        return Err(invalid(value_at, format!("aperture {} is negative", v.aperture)));
+                    }
+                }
+                b"focal" => {
+                    let value_at = self.lexer.clone().next().map_or(loc(&t), |n| loc(&n));
+                    v.focal = self.number("'focal' distance ratio")?;
+                    if v.focal <= 0.0 {
+                        return Err(invalid(
+                            value_at,
+                            format!("focal ratio {} is not positive", v.focal),
+                        ));
+                    }
+                }
+                field if field == eye => {
+                    let what = format!("'{}' x y z", String::from_utf8_lossy(eye));
+                    from = Some(self.vec3(&what)?);
+                }
                 b"at" => look_at = Some(self.vec3("'at' x y z")?),
                 b"up" => up = Some(self.vec3("'up' x y z")?),
                 b"angle" => {
@@ -50,8 +90,8 @@ impl Parser<'_> {
                 }
             }
         }
-        let missing = |name: &str| invalid(at, format!("the 'v' block lacks '{name}'"));
-        v.from = from.ok_or_else(|| missing("from"))?;
+        let missing = |field: &str| invalid(at, format!("the '{name}' block lacks '{field}'"));
+        v.from = from.ok_or_else(|| missing(&String::from_utf8_lossy(eye)))?;
         v.at = look_at.ok_or_else(|| missing("at"))?;
         v.up = up.ok_or_else(|| missing("up"))?;
         let (angle, angle_at) = angle.ok_or_else(|| missing("angle"))?;
@@ -95,28 +135,36 @@ impl Parser<'_> {
 
     /// `l x y z [r g b]`
     pub(super) fn light(&mut self, kw: &Token) -> Result<(), ParseError> {
-        let max = self.limits.max_lights;
-        if self.scene.lights.len() >= max {
-            return Err(invalid(
-                loc(kw),
-                format!("more than {max} lights (the limit; nffrt's --max-lights raises it)"),
-            ));
-        }
+        self.admit_light(kw)?;
         let position = self.vec3("light position x y z")?;
-        let mut peek = self.lexer.clone();
-        let color = match peek.next() {
-            Some(t) if parse_f32(t.text).is_some() => Some(self.vec3("light colour r g b")?),
-            _ => None,
+        let color = self.optional_color("light colour r g b")?;
+        // P3F lights carry colours; one without is white.
+        let color = match self.format {
+            Format::P3f => Some(color.unwrap_or(Vec3::ONE)),
+            Format::Nff => color,
         };
-        self.scene.lights.push(Light { position, color });
+        self.scene.lights.push(Light::point(position, color));
         Ok(())
     }
 
-    /// `f r g b Kd Ks shine T ior`
-    pub(super) fn fill(&mut self, _kw: &Token) -> Result<(), ParseError> {
+    /// `f r g b Kd Ks shine T ior`; in P3F (`f` and `mat`)
+    /// `f dr dg db Kd sr sg sb Ks shine T ior`, with the specular colour.
+    pub(super) fn fill(&mut self, kw: &Token) -> Result<(), ParseError> {
+        if kw.text == b"mat" {
+            self.saw_p3f_2025 = true;
+        }
+        let p3f = self.format == Format::P3f;
+        let color = self.vec3("material colour r g b")?;
+        let kd = self.number("material Kd")?;
+        let specular = if p3f {
+            self.vec3("material specular colour r g b")?
+        } else {
+            Vec3::ONE
+        };
         let m = Material {
-            color: self.vec3("material colour r g b")?,
-            kd: self.number("material Kd")?,
+            color,
+            kd,
+            specular,
             ks: self.number("material Ks")?,
             shine: self.number("material shine")?,
             t: self.number("material T")?,

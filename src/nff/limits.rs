@@ -15,7 +15,7 @@
 pub struct Limits {
     /// Most primitives (spheres, cones, polygons, patches, planes, boxes) kept.
     pub max_primitives: usize,
-    /// Most polygon and patch vertices kept, all polygons and patches together.
+    /// Most polygon, patch and mesh vertices kept, all together.
     pub max_vertices: usize,
     /// Most point lights (each costs a shadow ray per shaded hit).
     pub max_lights: usize,
@@ -85,7 +85,8 @@ mod tests {
         let e = parse_bytes_with(polys, &tight).unwrap_err();
         assert_eq!(e.line, 2, "{e}");
         assert!(
-            e.to_string().contains("more than 5 polygon and patch vertices"),
+            e.to_string()
+                .contains("more than 5 polygon, patch and mesh vertices"),
             "{e}"
         );
         let e = parse_bytes_with(b"l 0 0 1\nl 0 0 2\n", &tight).unwrap_err();

@@ -19,13 +19,37 @@
 mod chunks;
 mod entities;
 mod error;
+mod keywords;
 mod lexer;
 mod limits;
+mod p3f;
 mod parser;
+mod text;
 mod writer;
 
 pub use error::{ParseError, ParseErrorKind};
 pub use lexer::{Lexer, Token};
 pub use limits::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES, MAX_WARNINGS};
-pub use parser::{parse, parse_bytes, parse_bytes_with, MAX_RESOLUTION};
-pub use writer::write_nff;
+pub use parser::{parse, parse_bytes, parse_bytes_with, parse_format, MAX_RESOLUTION};
+
+/// The language of a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// NFF, with nffrt's extensions (`pl`, `aabb`).
+    Nff,
+    /// P3F, the IST course's extended NFF, in either of its dialects.
+    P3f,
+}
+
+impl Format {
+    /// The format a file's name implies: P3F for a `.p3f` extension (any case), NFF
+    /// otherwise.
+    pub fn of_path(path: &std::path::Path) -> Format {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("p3f") => Format::P3f,
+            _ => Format::Nff,
+        }
+    }
+}
+pub use writer::{view_block, write_nff, write_p3f, write_scene};

@@ -1,13 +1,18 @@
-//! Turns NFF tokens into a [`Scene`]: the token-level machinery (numbers, counts,
-//! warnings, limits) and the keyword dispatch. The keywords themselves are read in
-//! `entities.rs`, one function per keyword, each quoting its syntax.
+//! Turns NFF or P3F tokens into a [`Scene`]: the token-level machinery (numbers,
+//! counts, warnings, limits) and the dispatch through the keyword table
+//! (`keywords.rs`). The keywords themselves are read in `entities.rs` (NFF's, most
+//! shared with P3F) and `p3f.rs` (P3F's own), one function per keyword, each quoting
+//! its syntax.
 
 use super::chunks;
 use super::error::{ParseError, ParseErrorKind};
+use super::keywords;
 use super::lexer::{Lexer, Token};
 use super::limits::{Limits, MAX_WARNINGS};
+use super::text;
+use super::Format;
 use crate::math::Vec3;
-use crate::scene::{Material, Scene, Warning};
+use crate::scene::{AngleSpan, Dialect, Material, Scene, Warning};
 
 /// The largest image side a file may ask for.
 pub const MAX_RESOLUTION: u32 = 32768;
@@ -34,18 +39,39 @@ pub fn parse_bytes(src: &[u8]) -> Result<Scene, ParseError> {
 /// (at the first primitive, vertex or light past the limit). Files of a megabyte or
 /// more are parsed in pieces on the current rayon pool's threads when they split
 /// cleanly (see `chunks.rs`); the scene, warnings and errors are the same either way.
+/// A leading UTF-8 byte-order mark is skipped and binary data refused (see `text.rs`).
 pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
-    match chunks::parse_in_parallel(src, limits) {
+    parse_format(src, Format::Nff, limits)
+}
+
+/// Parses a scene in `format` from raw bytes within `limits` (see
+/// [`parse_bytes_with`]; P3F files are always parsed in one pass). A file without a
+/// single entity is an error.
+pub fn parse_format(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
+    let src = text::scene_text(src)?;
+    let parallel = match format {
+        Format::Nff => chunks::parse_in_parallel(src, limits),
+        Format::P3f => None,
+    };
+    match parallel {
         Some(scene) => Ok(scene),
-        None => parse_in_one_pass(src, limits),
+        None => parse_in_one_pass(src, format, limits),
     }
 }
 
-/// [`parse_bytes_with`] on the calling thread, token after token.
-pub(super) fn parse_in_one_pass(src: &[u8], limits: &Limits) -> Result<Scene, ParseError> {
-    let mut p = Parser::new(Lexer::new(src), limits, false);
+/// [`parse_format`] on the calling thread, token after token.
+pub(super) fn parse_in_one_pass(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
+    let mut p = Parser::new(Lexer::new(src), format, limits, false);
     p.run()?;
     let end = p.lexer.end_location();
+    if p.entities == 0 {
+        return Err(err(
+            end,
+            ParseErrorKind::Invalid(
+                "empty scene: the file holds no entity (no camera, light or object)".into(),
+            ),
+        ));
+    }
     Ok(p.finish(end))
 }
 
@@ -55,7 +81,13 @@ pub(super) const INHERITED_MATERIAL: u32 = u32::MAX;
 
 pub(super) struct Parser<'a> {
     pub(super) lexer: Lexer<'a>,
+    /// The language being read.
+    pub(super) format: Format,
     pub(super) scene: Scene,
+    /// Entities read so far.
+    pub(super) entities: usize,
+    /// A keyword only the 2024/25 P3F dialect has was read.
+    pub(super) saw_p3f_2025: bool,
     /// Index of the current material, `None` before the first `f`.
     pub(super) material: Option<u32>,
     /// A piece of a file after its first: objects before any `f` take
@@ -85,10 +117,13 @@ pub(super) fn invalid(at: Loc, msg: impl Into<String>) -> ParseError {
 
 impl<'a> Parser<'a> {
     /// A parser of `lexer`'s tokens into an empty scene.
-    pub(super) fn new(lexer: Lexer<'a>, limits: &Limits, inherits_material: bool) -> Self {
+    pub(super) fn new(lexer: Lexer<'a>, format: Format, limits: &Limits, inherits_material: bool) -> Self {
         Parser {
             lexer,
+            format,
             scene: Scene::default(),
+            entities: 0,
+            saw_p3f_2025: false,
             material: None,
             inherits_material,
             saw_view: false,
@@ -102,29 +137,19 @@ impl<'a> Parser<'a> {
     /// [`Parser::finish`]).
     pub(super) fn run(&mut self) -> Result<(), ParseError> {
         while let Some(tok) = self.lexer.next() {
-            match tok.text {
-                b"v" => self.view(&tok)?,
-                b"b" => self.background(&tok)?,
-                b"l" => self.light(&tok)?,
-                b"f" => self.fill(&tok)?,
-                b"s" => self.sphere(&tok)?,
-                b"c" => self.cone(&tok)?,
-                b"p" => self.polygon(&tok)?,
-                b"pp" => self.patch(&tok)?,
-                b"pl" => self.plane(&tok)?,
-                b"aabb" => self.aabb(&tok)?,
-                _ => {
-                    let kind = if parse_f32(tok.text).is_some() {
-                        ParseErrorKind::Expected {
-                            expected: "a keyword (v, b, l, f, s, c, p, pp, pl, aabb)".into(),
-                            found: format!("the number {}", tok.quoted()),
-                        }
-                    } else {
-                        ParseErrorKind::UnknownKeyword(tok.quoted())
-                    };
-                    return Err(err(loc(&tok), kind));
-                }
-            }
+            let Some(keyword) = keywords::find(tok.text, self.format) else {
+                let kind = if parse_f32(tok.text).is_some() {
+                    ParseErrorKind::Expected {
+                        expected: format!("a keyword ({})", keywords::list(self.format)),
+                        found: format!("the number {}", tok.quoted()),
+                    }
+                } else {
+                    ParseErrorKind::UnknownKeyword(tok.quoted())
+                };
+                return Err(err(loc(&tok), kind));
+            };
+            (keyword.read)(self, &tok)?;
+            self.entities += 1;
         }
         Ok(())
     }
@@ -132,11 +157,26 @@ impl<'a> Parser<'a> {
     /// The scene, with the file's closing warnings: a missing view, and how many
     /// warnings were left out (reported at `end`, the end of the file).
     pub(super) fn finish(mut self, end: Loc) -> Scene {
+        if self.format == Format::P3f {
+            self.scene.dialect = if self.saw_p3f_2025 {
+                Dialect::P3f2025
+            } else {
+                Dialect::P3f2019
+            };
+        }
         if !self.saw_view {
+            let block = match self.format {
+                Format::Nff => "'v' block",
+                Format::P3f => {
+                    self.scene.view.angle_span = AngleSpan::ImageEdges;
+                    "'v' or 'camera' block"
+                }
+            };
             self.warn(
                 (1, 1),
-                "no 'v' block: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)"
-                    .into(),
+                format!(
+                    "no {block}: using the default camera (from 0 0 10, at 0 0 0, up 0 1 0, angle 45, 512x512)"
+                ),
             );
         }
         if self.warnings_left_out > 0 {
@@ -162,17 +202,30 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    /// Refuses another polygon or patch vertex (of the entity at `kw`) past the limit,
-    /// reporting it at the vertex's first token.
+    /// Refuses another polygon, patch or mesh vertex (of the entity at `kw`) past the
+    /// limit, reporting it at the vertex's first token.
     pub(super) fn admit_vertex(&self, kw: &Token) -> Result<(), ParseError> {
         let max = self.limits.max_vertices;
-        if self.scene.polygon_vertices.len() + self.scene.patch_vertices.len() >= max {
+        let s = &self.scene;
+        if s.polygon_vertices.len() + s.patch_vertices.len() + s.mesh_vertices.len() >= max {
             let at = self.lexer.clone().next().map_or(loc(kw), |t| loc(&t));
             return Err(invalid(
                 at,
                 format!(
-                    "more than {max} polygon and patch vertices (the limit; nffrt's --max-vertices raises it)"
+                    "more than {max} polygon, patch and mesh vertices (the limit; nffrt's --max-vertices raises it)"
                 ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses the light at `kw` if the scene already holds the most allowed.
+    pub(super) fn admit_light(&self, kw: &Token) -> Result<(), ParseError> {
+        let max = self.limits.max_lights;
+        if self.scene.lights.len() >= max {
+            return Err(invalid(
+                loc(kw),
+                format!("more than {max} lights (the limit; nffrt's --max-lights raises it)"),
             ));
         }
         Ok(())

@@ -1,15 +1,58 @@
-//! The NFF pinhole camera.
+//! The camera: a pinhole, or a thin lens with depth of field.
+//!
+//! [`Camera::new`] is the one place a camera is made, from the scene's view and the
+//! render options (which may override the lens). [`Camera::ray`] maps a
+//! [`CameraSample`] — a raster position and a lens position — to a world-space ray.
+//!
+//! Raster `(0, 0)` is the top-left corner of the image, pixel `(i, j)` has its centre
+//! at `(i + 0.5, j + 0.5)`, x grows to the right and y downwards. The frame is
+//! right-handed: `right = forward x up`. Pixels are square; their pitch on the image
+//! plane at distance 1 depends on what the view's `angle` spans ([`AngleSpan`]):
+//! NFF's angle runs between the centres of the outer pixel rows, so the pitch is
+//! `2 tan(angle/2) / (height - 1)`; P3F's runs between the image's edges,
+//! `2 tan(angle/2) / height`.
+//!
+//! The thin lens (P3F-SPEC): the view plane lies at `d = |from - at|`; the lens is a
+//! disc of diameter `aperture` pixels of that plane (`aperture * d * pitch` in world
+//! units) around `from`, perpendicular to the view direction, and the plane of sharp
+//! focus lies at `focal * d` along the view direction. A lens ray starts at its lens
+//! point and passes through the point of the focal plane that the pinhole ray of the
+//! same raster position meets, so every lens ray of one raster position meets there.
 
 use crate::math::{Ray, Vec3};
-use crate::scene::View;
+use crate::scene::{AngleSpan, View};
 
-/// A pinhole camera that maps raster positions to world-space eye rays.
-///
-/// NFF defines `angle` between the centres of the outer pixel rows (the top and the
-/// bottom row); pixels are square, so the pixel pitch on the image plane at distance 1
-/// is `2 tan(angle/2) / (height - 1)`. Raster `(0, 0)` is the top-left corner of the
-/// image, pixel `(i, j)` has its centre at `(i + 0.5, j + 0.5)`, x grows to the right
-/// and y downwards. The frame is right-handed: `right = forward x up`.
+use super::RenderOptions;
+
+/// Where an eye ray goes: a raster position and a position on the lens.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSample {
+    /// Raster position (pixel units, from the top-left corner).
+    pub raster: (f32, f32),
+    /// Lens position in `[0, 1)^2`, mapped to the lens disc (`(0.5, 0.5)` is its centre).
+    pub lens: (f32, f32),
+}
+
+impl CameraSample {
+    /// The sample at raster position `(x, y)` through the centre of the lens.
+    pub fn at(x: f32, y: f32) -> CameraSample {
+        CameraSample {
+            raster: (x, y),
+            lens: (0.5, 0.5),
+        }
+    }
+}
+
+/// A thin lens: its radius and the distance of the plane of sharp focus.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ThinLens {
+    /// Lens radius in world units.
+    radius: f32,
+    /// Distance of the focal plane along the view direction.
+    focal_distance: f32,
+}
+
+/// Maps camera samples to eye rays (see the module docs).
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
     origin: Vec3,
@@ -19,16 +62,30 @@ pub struct Camera {
     pitch: f32,
     half_width: f32,
     half_height: f32,
+    lens: Option<ThinLens>,
 }
 
 impl Camera {
-    /// Builds the camera for an image of `width` x `height` pixels.
-    pub fn new(view: &View, width: u32, height: u32) -> Camera {
+    /// The camera of `view` for the image size and lens of `opts` (`opts.aperture` and
+    /// `opts.focal`, when set, replace the view's).
+    pub fn new(view: &View, opts: &RenderOptions) -> Camera {
+        let (width, height) = (opts.width, opts.height);
         let forward = (view.at - view.from).normalize();
         let right = forward.cross(view.up).normalize();
         let up = right.cross(forward);
         let half_angle = (view.angle as f64).to_radians() * 0.5;
-        let pitch = (2.0 * half_angle.tan() / (height.max(2) - 1) as f64) as f32;
+        let spans = match view.angle_span {
+            AngleSpan::PixelCentres => height.max(2) - 1,
+            AngleSpan::ImageEdges => height,
+        };
+        let pitch = (2.0 * half_angle.tan() / spans as f64) as f32;
+        let aperture = opts.aperture.unwrap_or(view.aperture);
+        let focal = opts.focal.unwrap_or(view.focal);
+        let d = (view.at - view.from).length();
+        let lens = (aperture > 0.0).then_some(ThinLens {
+            radius: 0.5 * aperture * d * pitch,
+            focal_distance: focal * d,
+        });
         Camera {
             origin: view.from,
             forward,
@@ -37,17 +94,62 @@ impl Camera {
             pitch,
             half_width: width as f32 * 0.5,
             half_height: height as f32 * 0.5,
+            lens,
         }
     }
 
-    /// The unit-direction eye ray through raster position `(x, y)`.
-    #[inline]
-    pub fn ray(&self, x: f32, y: f32) -> Ray {
+    /// True if the camera has a lens of non-zero size (its rays depend on the lens
+    /// position).
+    pub fn has_lens(&self) -> bool {
+        self.lens.is_some()
+    }
+
+    /// The eye ray of sample `s` (unit direction).
+    #[inline(always)]
+    pub fn ray(&self, s: &CameraSample) -> Ray {
+        let (x, y) = s.raster;
         let sx = (x - self.half_width) * self.pitch;
         let sy = (self.half_height - y) * self.pitch;
-        let dir = (self.forward + self.right * sx + self.up * sy).normalize();
-        Ray::new(self.origin, dir)
+        // The pinhole ray's direction, scaled so its forward component is 1.
+        let through = self.forward + self.right * sx + self.up * sy;
+        match &self.lens {
+            None => Ray::new(self.origin, through.normalize()),
+            Some(lens) => self.lens_ray(lens, through, s.lens),
+        }
     }
+
+    /// The ray from lens position `lens_at` through the focal-plane point of the
+    /// pinhole ray `through`.
+    #[inline(never)]
+    fn lens_ray(&self, lens: &ThinLens, through: Vec3, lens_at: (f32, f32)) -> Ray {
+        let (lx, ly) = concentric_disc(lens_at);
+        let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
+        let focus = self.origin + through * lens.focal_distance;
+        Ray::new(start, (focus - start).normalize())
+    }
+
+    /// The ray through raster position `(x, y)` and the centre of the lens.
+    #[inline]
+    pub fn ray_at(&self, x: f32, y: f32) -> Ray {
+        self.ray(&CameraSample::at(x, y))
+    }
+}
+
+/// Shirley and Chiu's concentric map of the unit square onto the unit disc: strata
+/// of the square stay compact on the disc, so stratified lens samples stay stratified.
+#[inline]
+pub fn concentric_disc((u, v): (f32, f32)) -> (f32, f32) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let quarter = std::f32::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, quarter * (b / a))
+    } else {
+        (b, 2.0 * quarter - quarter * (a / b))
+    };
+    (r * phi.cos(), r * phi.sin())
 }
 
 #[cfg(test)]
@@ -60,16 +162,23 @@ mod tests {
             at: Vec3::new(0.0, 1.0, 0.0),
             up: Vec3::new(0.0, 0.0, 1.0),
             angle: 90.0,
-            hither: 1.0,
-            width: 3,
-            height: 3,
+            ..View::default()
         }
+    }
+
+    fn camera(view: &View, w: u32, h: u32) -> Camera {
+        let opts = RenderOptions {
+            width: w,
+            height: h,
+            ..RenderOptions::default()
+        };
+        Camera::new(view, &opts)
     }
 
     #[test]
     fn centre_pixel_looks_at_the_target() {
-        let c = Camera::new(&view(), 3, 3);
-        let r = c.ray(1.5, 1.5);
+        let c = camera(&view(), 3, 3);
+        let r = c.ray_at(1.5, 1.5);
         assert!((r.dir - Vec3::new(0.0, 1.0, 0.0)).length() < 1e-6);
     }
 
@@ -77,11 +186,39 @@ mod tests {
     fn angle_spans_the_centres_of_the_outer_rows() {
         // 90 degrees between the centres of the top and bottom rows: the top-centre
         // pixel looks 45 degrees up, the right-centre pixel 45 degrees right.
-        let c = Camera::new(&view(), 3, 3);
-        let top = c.ray(1.5, 0.5).dir;
+        let c = camera(&view(), 3, 3);
+        let top = c.ray_at(1.5, 0.5).dir;
         assert!((top - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
-        let right = c.ray(2.5, 1.5).dir;
+        let right = c.ray_at(2.5, 1.5).dir;
         // Looking along +y with z up, +x is on the right (right-handed, not mirrored).
         assert!((right - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn p3f_angle_spans_the_image_edges() {
+        let v = View {
+            angle_span: AngleSpan::ImageEdges,
+            ..view()
+        };
+        let c = camera(&v, 4, 4);
+        // The top edge (raster y = 0) is 45 degrees up, the left edge 45 degrees left.
+        let top = c.ray_at(2.0, 0.0).dir;
+        assert!((top - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
+        let left = c.ray_at(0.0, 2.0).dir;
+        assert!((left - Vec3::new(-1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn concentric_map_stays_in_the_disc_and_keeps_the_centre() {
+        assert_eq!(concentric_disc((0.5, 0.5)), (0.0, 0.0));
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let (x, y) = concentric_disc((i as f32 / 20.0, j as f32 / 20.0));
+                assert!(x * x + y * y <= 1.0 + 1e-6);
+            }
+        }
+        // The square's corners land on the circle, on the diagonals.
+        let (x, y) = concentric_disc((1.0, 1.0));
+        assert!((x - 0.5f32.sqrt()).abs() < 1e-6 && (y - 0.5f32.sqrt()).abs() < 1e-6);
     }
 }

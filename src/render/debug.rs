@@ -7,13 +7,14 @@
 
 use std::fmt;
 
-use super::trace::{Branch, HitRecord, LightOutcome, Recorder, Tracer};
-use super::{spd_mean, stratified_mean, Camera, RenderOptions, Sampling, Stats, Strata};
+use super::trace::{AreaOutcome, Branch, HitRecord, LightOutcome, Recorder, Tracer};
+use super::{pixel_mean, spd_mean, Camera, CameraSample, RenderOptions, SampleId, Sampling, Stats};
 use crate::accel::Bvh;
 use crate::geometry::SourceKind;
 use crate::image::quantize;
+use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
-use crate::scene::{Material, Scene};
+use crate::scene::{Dialect, Material, Scene};
 
 /// One ray of the tree and what it saw.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,6 +27,8 @@ pub struct RayNode {
     pub hit: Option<HitNode>,
     /// The colour this ray returns (the background for a miss).
     pub color: Vec3,
+    /// For a miss under a skybox, the face and texel it saw.
+    pub sky: Option<SkyTexel>,
 }
 
 /// A surface hit of a [`RayNode`].
@@ -52,9 +55,23 @@ pub struct HitNode {
     /// The ambient term.
     pub ambient: Vec3,
     /// Each light's outcome, in file order.
-    pub lights: Vec<LightOutcome>,
+    pub lights: Vec<LightRecord>,
     /// Secondary rays: kind, weight and the subtree.
-    pub children: Vec<(Branch, f32, RayNode)>,
+    pub children: Vec<(Branch, Vec3, RayNode)>,
+}
+
+/// What one light did at a hit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightRecord {
+    /// A point light's outcome.
+    Point(LightOutcome),
+    /// An area light: each sampled point with its outcome, and the sum.
+    Area {
+        /// The points sampled and what became of each.
+        points: Vec<(Vec3, LightOutcome)>,
+        /// The counts and the total contribution.
+        outcome: AreaOutcome,
+    },
 }
 
 /// The ray trees of every eye ray of one pixel, and the pixel's value.
@@ -67,25 +84,31 @@ pub struct PixelTrace {
     /// The options the pixel was traced with.
     pub opts: RenderOptions,
     /// Each eye ray: its raster position and tree.
-    pub samples: Vec<((f32, f32), RayNode)>,
+    pub samples: Vec<(CameraSample, RayNode)>,
+    /// True if the camera has a lens (the lens positions are printed).
+    pub lens: bool,
     /// The pixel's linear value, identical to the rendered one.
     pub value: Vec3,
     /// Ray counts of this pixel.
     pub stats: Stats,
     /// Light positions, for the printout.
     pub lights: Vec<Vec3>,
+    /// The scene's language (names the keywords in the printout).
+    pub dialect: Dialect,
 }
 
 /// Builds the tree from the recursion's events.
 struct TreeRecorder<'a> {
     scene: &'a Scene,
-    open: Vec<(Option<(Branch, f32)>, RayNode)>,
-    pending: Option<(Branch, f32)>,
+    open: Vec<(Option<(Branch, Vec3)>, RayNode)>,
+    pending: Option<(Branch, Vec3)>,
+    /// Points of the area light being sampled.
+    points: Vec<(Vec3, LightOutcome)>,
     root: Option<RayNode>,
 }
 
 impl TreeRecorder<'_> {
-    fn attach(&mut self, branch: Option<(Branch, f32)>, node: RayNode) {
+    fn attach(&mut self, branch: Option<(Branch, Vec3)>, node: RayNode) {
         match (self.open.last_mut(), branch) {
             (Some((_, parent)), Some((kind, w))) => {
                 parent
@@ -100,9 +123,18 @@ impl TreeRecorder<'_> {
     }
 }
 
+impl TreeRecorder<'_> {
+    fn push_light(&mut self, record: LightRecord) {
+        if let Some((_, RayNode { hit: Some(h), .. })) = self.open.last_mut() {
+            h.lights.push(record);
+        }
+    }
+}
+
 impl Recorder for TreeRecorder<'_> {
-    fn miss(&mut self, ray: &Ray, background: Vec3) {
+    fn miss(&mut self, ray: &Ray, background: Vec3, texel: Option<SkyTexel>) {
         let node = RayNode {
+            sky: texel,
             origin: ray.origin,
             dir: ray.dir,
             hit: None,
@@ -115,6 +147,7 @@ impl Recorder for TreeRecorder<'_> {
     fn hit(&mut self, ray: &Ray, h: &HitRecord) {
         let m = h.primitive.material;
         let node = RayNode {
+            sky: None,
             origin: ray.origin,
             dir: ray.dir,
             hit: Some(HitNode {
@@ -138,12 +171,19 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn light(&mut self, _index: usize, outcome: LightOutcome) {
-        if let Some((_, RayNode { hit: Some(h), .. })) = self.open.last_mut() {
-            h.lights.push(outcome);
-        }
+        self.push_light(LightRecord::Point(outcome));
     }
 
-    fn branch(&mut self, kind: Branch, weight: f32) {
+    fn light_sample(&mut self, _index: usize, point: Vec3, outcome: LightOutcome) {
+        self.points.push((point, outcome));
+    }
+
+    fn area_light(&mut self, _index: usize, outcome: AreaOutcome) {
+        let points = std::mem::take(&mut self.points);
+        self.push_light(LightRecord::Area { points, outcome });
+    }
+
+    fn branch(&mut self, kind: Branch, weight: Vec3) {
         self.pending = Some((kind, weight));
     }
 
@@ -157,29 +197,35 @@ impl Recorder for TreeRecorder<'_> {
 
 /// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) as the renderer does.
 pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
-    let camera = Camera::new(&scene.view, opts.width, opts.height);
-    let tracer = Tracer::new(scene, bvh, opts.max_depth);
+    let camera = Camera::new(&scene.view, opts);
+    let tracer = Tracer::new(scene, bvh, opts);
     let mut stats = Stats::default();
     let mut samples = Vec::new();
     super::trace::reset_shadow_cache();
-    let mut trace_at = |px: f32, py: f32| {
+    let mut trace_at = |sample: CameraSample, id: SampleId| {
         let mut rec = TreeRecorder {
             scene,
             open: Vec::new(),
             pending: None,
+            points: Vec::new(),
             root: None,
         };
-        let c = tracer.trace_eye_recorded(&camera.ray(px, py), &mut stats, &mut rec);
-        samples.push(((px, py), rec.root.expect("every eye ray records a tree")));
+        let c = tracer.trace_eye_recorded(&camera.ray(&sample), &id, &mut stats, &mut rec);
+        samples.push((sample, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
-        Sampling::PixelCenters => trace_at(x as f32 + 0.5, y as f32 + 0.5),
-        Sampling::Stratified { spp } => stratified_mean(&Strata::new(spp), x, y, trace_at),
+        Sampling::PixelCenters => trace_at(
+            CameraSample::at(x as f32 + 0.5, y as f32 + 0.5),
+            SampleId::single(x, y),
+        ),
+        Sampling::Stratified { .. } | Sampling::Independent { .. } => {
+            pixel_mean(&opts.sampling.pixel_sampler(camera.has_lens()), x, y, trace_at)
+        }
         Sampling::SpdCorners => {
             let (fx, fy) = (x as f32, y as f32);
-            let c =
-                [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)].map(|(a, b)| trace_at(a, b));
+            let c = [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)]
+                .map(|(a, b)| trace_at(CameraSample::at(a, b), SampleId::single(a as u32, b as u32)));
             spd_mean(c[0], c[1], c[2], c[3])
         }
     };
@@ -188,9 +234,11 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
         y,
         opts: *opts,
         samples,
+        lens: camera.has_lens(),
         value,
         stats,
         lights: scene.lights.iter().map(|l| l.position).collect(),
+        dialect: scene.dialect,
     }
 }
 
@@ -210,14 +258,44 @@ impl fmt::Display for V {
     }
 }
 
-fn kind_name(k: SourceKind) -> &'static str {
+/// A light point's outcome as printed.
+struct Outcome<'a>(&'a LightOutcome);
+
+impl fmt::Display for Outcome<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            LightOutcome::Behind => write!(f, "behind the surface (no shadow ray)"),
+            LightOutcome::Shadowed => write!(f, "shadowed"),
+            LightOutcome::Lit(c) => write!(f, "adds {}", V(*c)),
+        }
+    }
+}
+
+/// A secondary ray's weight: one number when its three channels agree.
+struct Weight(Vec3);
+
+impl fmt::Display for Weight {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let w = self.0;
+        if w.x == w.y && w.y == w.z {
+            write!(f, "{}", w.x)
+        } else {
+            write!(f, "{}", V(w))
+        }
+    }
+}
+
+/// The primitive kind as printed, with the keyword it has in the scene's language.
+pub fn kind_name(k: SourceKind, dialect: Dialect) -> &'static str {
     match k {
         SourceKind::Sphere => "sphere (s)",
         SourceKind::Polygon => "polygon (p)",
         SourceKind::Patch => "patch (pp)",
         SourceKind::Cone => "cone (c)",
         SourceKind::Plane => "plane (pl)",
+        SourceKind::Box if dialect.is_p3f() => "box (box)",
         SourceKind::Box => "box (aabb)",
+        SourceKind::Mesh => "mesh triangle (mesh)",
     }
 }
 
@@ -226,13 +304,23 @@ impl PixelTrace {
         let pad = "  ".repeat(indent);
         writeln!(f, "{pad}ray from {} dir {}", V(node.origin), V(node.dir))?;
         let Some(h) = &node.hit else {
-            return writeln!(f, "{pad}miss: background {}", V(node.color));
+            return match node.sky {
+                Some(t) => writeln!(
+                    f,
+                    "{pad}miss: skybox face {}, texel ({}, {}) from its bottom-left: {}",
+                    t.face.name(),
+                    t.column,
+                    t.row,
+                    V(node.color)
+                ),
+                None => writeln!(f, "{pad}miss: background {}", V(node.color)),
+            };
         };
         let side = if h.entering { "entering" } else { "leaving" };
         writeln!(
             f,
             "{pad}hit {} at line {}, t = {:.4}, {side}",
-            kind_name(h.kind),
+            kind_name(h.kind, self.dialect),
             h.line,
             h.t
         )?;
@@ -241,9 +329,14 @@ impl PixelTrace {
             writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
         }
         let (mi, m) = &h.material;
+        let specular = if self.dialect.is_p3f() {
+            format!(" specular {}", V(m.specular))
+        } else {
+            String::new()
+        };
         writeln!(
             f,
-            "{pad}  material #{mi}: colour {} Kd {} Ks {} shine {} T {} ior {}",
+            "{pad}  material #{mi}: colour {} Kd {}{specular} Ks {} shine {} T {} ior {}",
             V(m.color),
             m.kd,
             m.ks,
@@ -252,16 +345,27 @@ impl PixelTrace {
             m.ior
         )?;
         writeln!(f, "{pad}  ambient {}", V(h.ambient))?;
-        for (k, outcome) in h.lights.iter().enumerate() {
+        for (k, record) in h.lights.iter().enumerate() {
             let at = self.lights.get(k).map(|&p| V(p).to_string()).unwrap_or_default();
-            match outcome {
-                LightOutcome::Behind => writeln!(
-                    f,
-                    "{pad}  light {} at {at}: behind the surface (no shadow ray)",
-                    k + 1
-                )?,
-                LightOutcome::Shadowed => writeln!(f, "{pad}  light {} at {at}: shadowed", k + 1)?,
-                LightOutcome::Lit(c) => writeln!(f, "{pad}  light {} at {at}: adds {}", k + 1, V(*c))?,
+            match record {
+                LightRecord::Point(outcome) => {
+                    writeln!(f, "{pad}  light {} at {at}: {}", k + 1, Outcome(outcome))?
+                }
+                LightRecord::Area { points, outcome } => {
+                    writeln!(
+                        f,
+                        "{pad}  area light {} at {at}: {} points, {} lit, {} shadowed, {} behind: adds {}",
+                        k + 1,
+                        outcome.samples,
+                        outcome.samples - outcome.shadowed - outcome.behind,
+                        outcome.shadowed,
+                        outcome.behind,
+                        V(outcome.contribution)
+                    )?;
+                    for (p, o) in points {
+                        writeln!(f, "{pad}    point {}: {}", V(*p), Outcome(o))?;
+                    }
+                }
             }
         }
         if h.children.is_empty() && (m.ks > 0.0 || m.t > 0.0) {
@@ -273,7 +377,7 @@ impl PixelTrace {
                 Branch::TotalInternalReflection => "reflection (total internal reflection)",
                 Branch::Refraction => "refraction",
             };
-            writeln!(f, "{pad}  {name}, weight {w}:")?;
+            writeln!(f, "{pad}  {name}, weight {}:", Weight(*w))?;
             self.write_node(f, child, indent + 2)?;
         }
         writeln!(f, "{pad}  = colour {}", V(node.color))
@@ -288,8 +392,18 @@ impl fmt::Display for PixelTrace {
             self.x, self.y, self.opts.width, self.opts.height, self.opts.sampling, self.opts.max_depth
         )?;
         let n = self.samples.len();
-        for (k, ((px, py), node)) in self.samples.iter().enumerate() {
-            writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+        for (k, (sample, node)) in self.samples.iter().enumerate() {
+            let (px, py) = sample.raster;
+            if self.lens {
+                let (u, v) = sample.lens;
+                writeln!(
+                    f,
+                    "eye ray {} of {n} through raster ({px}, {py}), lens ({u}, {v}):",
+                    k + 1
+                )?;
+            } else {
+                writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+            }
             self.write_node(f, node, 1)?;
         }
         let v = self.value;
@@ -319,7 +433,10 @@ mod tests {
     fn tally(node: &RayNode, acc: &mut [u64; 5]) {
         let Some(h) = &node.hit else { return };
         acc[0] += 1;
-        for o in &h.lights {
+        for record in &h.lights {
+            let LightRecord::Point(o) = record else {
+                panic!("the test scene has point lights only")
+            };
             acc[3] += (*o != LightOutcome::Behind) as u64;
             acc[4] += (*o == LightOutcome::Shadowed) as u64;
         }

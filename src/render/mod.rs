@@ -6,17 +6,22 @@
 //! [`render_region`] renders a crop: every sample position depends only on absolute
 //! pixel coordinates, so a crop's pixels equal the full render's there, bit for bit.
 
+mod background;
 mod camera;
 pub mod debug;
+mod light;
 mod sampling;
 mod shade;
 mod stats;
 mod trace;
 
-pub use camera::Camera;
-pub use sampling::{jitter, Sampling, Strata};
+pub use background::Background;
+pub use camera::{Camera, CameraSample};
+pub use light::{LightQuad, LightSampling, LightSource};
+pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
+pub use shade::{schlick, Model};
 pub use stats::Stats;
-pub use trace::{Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
+pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
 use rayon::prelude::*;
 
@@ -25,8 +30,8 @@ use crate::image::{Image, Region};
 use crate::math::{Ray, Vec3};
 use crate::scene::Scene;
 
-/// How to render.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How to render. Every field changes the picture.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct RenderOptions {
     /// Image width in pixels.
     pub width: u32,
@@ -36,16 +41,40 @@ pub struct RenderOptions {
     pub max_depth: u32,
     /// Eye-ray placement.
     pub sampling: Sampling,
+    /// Lens diameter in pixels of the view plane, replacing the scene's (0: pinhole).
+    pub aperture: Option<f32>,
+    /// Focal distance as a multiple of `|from - at|`, replacing the scene's.
+    pub focal: Option<f32>,
+    /// Points per side of the grid every hit samples on each area light, replacing
+    /// the default sampling (see `light.rs`).
+    pub light_samples: Option<u32>,
+    /// False: each area light shines from its centre alone (hard shadows).
+    pub soft_shadows: bool,
+}
+
+impl Default for RenderOptions {
+    /// 512x512, depth 5, pixel centres, the scene's lens.
+    fn default() -> Self {
+        RenderOptions {
+            width: 512,
+            height: 512,
+            max_depth: DEFAULT_MAX_DEPTH,
+            sampling: Sampling::PixelCenters,
+            aperture: None,
+            focal: None,
+            light_samples: None,
+            soft_shadows: true,
+        }
+    }
 }
 
 impl RenderOptions {
-    /// The scene file's resolution, depth 5, pixel-centre sampling.
+    /// The scene file's resolution, depth 5, pixel-centre sampling, the scene's lens.
     pub fn from_scene(scene: &Scene) -> Self {
         RenderOptions {
             width: scene.view.width,
             height: scene.view.height,
-            max_depth: DEFAULT_MAX_DEPTH,
-            sampling: Sampling::PixelCenters,
+            ..RenderOptions::default()
         }
     }
 }
@@ -113,26 +142,27 @@ pub fn render_region(
         opts.width,
         opts.height
     );
-    let camera = Camera::new(&scene.view, opts.width, opts.height);
-    let tracer = Tracer::new(scene, bvh, opts.max_depth);
+    let camera = Camera::new(&scene.view, opts);
+    let tracer = Tracer::new(scene, bvh, opts);
     let (x0, y0) = (region.x0, region.y0);
     let (w, h) = (region.width() as usize, region.height() as usize);
-    let trace_at = |x: f32, y: f32, stats: &mut Stats| tracer.trace_eye(&camera.ray(x, y), stats);
-    // A row of eye rays through raster points (x0 + i + offset, y + offset), traced
-    // in packets.
+    // A row of eye rays through raster points (x0 + i + offset, y + offset) and the
+    // lens centre, traced in packets.
     let eye_row = |offset: f32, cols: usize, y: u32, st: &mut Stats, out: &mut Vec<Vec3>| {
         let rays: Vec<Ray> = (0..cols as u32)
-            .map(|i| camera.ray((x0 + i) as f32 + offset, y as f32 + offset))
+            .map(|i| camera.ray_at((x0 + i) as f32 + offset, y as f32 + offset))
             .collect();
-        tracer.trace_eye_row(&rays, st, out);
+        tracer.trace_eye_row(&rays, (x0, y), st, out);
     };
     let pixels = match opts.sampling {
         Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
-        Sampling::Stratified { spp } => {
-            let strata = Strata::new(spp);
+        Sampling::Stratified { .. } | Sampling::Independent { .. } => {
+            let sampler = opts.sampling.pixel_sampler(camera.has_lens());
             trace_rows(y0, w, h, observer, |y, st, out| {
-                for i in x0..x0 + w as u32 {
-                    out.push(stratified_mean(&strata, i, y, |x, y| trace_at(x, y, st)));
+                for x in x0..x0 + w as u32 {
+                    out.push(pixel_mean(&sampler, x, y, |sample, id| {
+                        tracer.trace_eye(&camera.ray(&sample), &id, st)
+                    }));
                 }
             })
         }
@@ -164,17 +194,22 @@ pub fn spd_mean(top_left: Vec3, top_right: Vec3, bottom_left: Vec3, bottom_right
     top_left * 0.25 + top_right * 0.25 + bottom_left * 0.25 + bottom_right * 0.25
 }
 
-/// The box-filtered value of pixel `(x, y)`: the mean of `sample` at its stratified
-/// raster positions, each weighted by `1/n` before the sum (in sample order) so that
-/// huge but finite samples cannot overflow to infinity.
+/// The box-filtered value of pixel `(x, y)` (not the SPD corners): the mean of
+/// `trace` over the pixel's samples, each weighted by `1/n` before the sum (in
+/// sample order) so that huge but finite samples cannot overflow to infinity.
 #[inline]
-pub fn stratified_mean(strata: &Strata, x: u32, y: u32, mut sample: impl FnMut(f32, f32) -> Vec3) -> Vec3 {
-    let n = strata.samples();
+pub fn pixel_mean(
+    sampler: &PixelSampler,
+    x: u32,
+    y: u32,
+    mut trace: impl FnMut(CameraSample, SampleId) -> Vec3,
+) -> Vec3 {
+    let n = sampler.count();
     let weight = 1.0 / n as f32;
     let mut sum = Vec3::ZERO;
     for s in 0..n {
-        let (px, py) = strata.position(x, y, s);
-        sum += sample(px, py) * weight;
+        let (sample, id) = sampler.sample(x, y, s);
+        sum += trace(sample, id) * weight;
     }
     sum
 }

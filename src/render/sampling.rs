@@ -6,16 +6,27 @@
 //! N -> Nx1), and places one sample uniformly at random in each stratum. The pixel
 //! value is the plain mean of its samples (a box filter over the pixel).
 //!
-//! The random offsets come from a hash of the absolute pixel coordinates and the
-//! sample index (SplitMix64's finalizer), not from a per-thread generator: every
-//! run, every thread count and every tile of a split render sees the same sample
-//! positions, so images are identical and tiles merge byte for byte. `spp = 1` is
-//! one sample at the pixel centre, with no jitter.
+//! Every random number comes from a hash of the absolute pixel coordinates, the
+//! sample index and a *dimension* ([`Dim`]: the pixel position, the lens, each light
+//! at each depth), SplitMix64's finalizer, not from a per-thread generator: every
+//! run, every thread count and every tile of a split render sees the same samples,
+//! so images are identical and tiles merge byte for byte. `spp = 1` is one sample at
+//! the pixel centre (and the lens centre), with no jitter.
+//!
+//! The other dimensions are stratified together with the pixel position: sample `s`
+//! of a pixel takes stratum `s` of the pixel, stratum `π(s)` of the lens and stratum
+//! `π'(s)` of each light, with `π`, `π'` random permutations of the `spp` strata
+//! hashed per pixel and dimension ([`permute`], Kensler's cycle-walking
+//! permutation). Each dimension's strata are thus all used once per pixel, in an
+//! order unrelated to the others', so 16 samples cover the lens and each area light
+//! with a 4x4 grid of jittered points.
 
 use std::fmt;
 
+use super::camera::CameraSample;
+
 /// Where eye rays go through each pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Sampling {
     /// One ray through each pixel centre.
     PixelCenters,
@@ -28,6 +39,36 @@ pub enum Sampling {
         /// Samples per pixel, at least 1.
         spp: u32,
     },
+    /// `spp` independent uniform samples per pixel in every dimension, without
+    /// strata: the baseline that stratification is measured against (tests).
+    Independent {
+        /// Samples per pixel, at least 1.
+        spp: u32,
+    },
+}
+
+impl Sampling {
+    /// The sampler of one pixel's samples in a render (not for
+    /// [`Sampling::SpdCorners`], whose rays go through pixel corners); `lens` says
+    /// whether the camera has a lens whose position must be sampled.
+    pub fn pixel_sampler(&self, lens: bool) -> PixelSampler {
+        let count = self.samples_per_pixel();
+        PixelSampler {
+            strata: Strata::new(count),
+            count,
+            stratified: !matches!(self, Sampling::Independent { .. }),
+            lens,
+        }
+    }
+
+    /// Eye samples per pixel (4 corner rays shared with the neighbours for the SPD
+    /// protocol count as 1).
+    pub fn samples_per_pixel(&self) -> u32 {
+        match *self {
+            Sampling::PixelCenters | Sampling::SpdCorners => 1,
+            Sampling::Stratified { spp } | Sampling::Independent { spp } => spp.max(1),
+        }
+    }
 }
 
 impl fmt::Display for Sampling {
@@ -36,6 +77,7 @@ impl fmt::Display for Sampling {
             Sampling::PixelCenters => write!(f, "centres"),
             Sampling::SpdCorners => write!(f, "spd-corners"),
             Sampling::Stratified { spp } => write!(f, "stratified-{spp}"),
+            Sampling::Independent { spp } => write!(f, "independent-{spp}"),
         }
     }
 }
@@ -77,12 +119,134 @@ impl Strata {
         if self.samples() == 1 {
             return (x as f32 + 0.5, y as f32 + 0.5);
         }
-        let (u, v) = jitter(x, y, s);
-        let (cx, cy) = (s % self.cols, s / self.cols);
+        let (u, v) = self.point(s, sample_2d(x, y, s, Dim::Pixel));
+        (x as f32 + u, y as f32 + v)
+    }
+
+    /// The point `(u, v)` of the unit square's stratum `stratum` (row-major), at
+    /// `offset` (in `[0, 1)^2`) within it.
+    #[inline]
+    pub fn point(&self, stratum: u32, offset: (f32, f32)) -> (f32, f32) {
+        let (cx, cy) = (stratum % self.cols, stratum / self.cols);
         (
-            x as f32 + (cx as f32 + u) / self.cols as f32,
-            y as f32 + (cy as f32 + v) / self.rows as f32,
+            (cx as f32 + offset.0) / self.cols as f32,
+            (cy as f32 + offset.1) / self.rows as f32,
         )
+    }
+}
+
+/// The samples of a pixel under one sampling pattern, set up once per render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelSampler {
+    strata: Strata,
+    count: u32,
+    stratified: bool,
+    lens: bool,
+}
+
+impl PixelSampler {
+    /// Samples per pixel.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Sample `index` of pixel `(x, y)`: where its eye ray goes, and its id.
+    #[inline(always)]
+    pub fn sample(&self, x: u32, y: u32, index: u32) -> (CameraSample, SampleId) {
+        let id = SampleId {
+            x,
+            y,
+            index,
+            count: self.count,
+            stratified: self.stratified,
+        };
+        let raster = if self.stratified {
+            self.strata.position(x, y, index)
+        } else {
+            let (u, v) = sample_2d(x, y, index, Dim::Pixel);
+            (x as f32 + u, y as f32 + v)
+        };
+        let lens = if self.lens {
+            id.point(Dim::Lens)
+        } else {
+            (0.5, 0.5)
+        };
+        (CameraSample { raster, lens }, id)
+    }
+}
+
+/// A dimension of the sample space: each draws its own numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dim {
+    /// The raster position within the pixel.
+    Pixel,
+    /// The position on the lens.
+    Lens,
+    /// The point of area light `light` sampled at a hit of ray-tree depth `depth`.
+    Light {
+        /// The light's index in file order.
+        light: u32,
+        /// The ray-tree depth of the hit (the eye ray's hit is 1).
+        depth: u32,
+    },
+}
+
+impl Dim {
+    /// A distinct number per dimension (the pixel's is 0, which keeps the pixel
+    /// positions of the sampler before dimensions existed).
+    fn key(self) -> u64 {
+        match self {
+            Dim::Pixel => 0,
+            Dim::Lens => 1,
+            Dim::Light { light, depth } => 2 + ((light as u64) << 8) + depth.min(255) as u64,
+        }
+    }
+}
+
+/// The eye sample a ray tree belongs to: its pixel and its place among the pixel's
+/// samples, from which every later random choice of the tree is hashed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleId {
+    /// Pixel column (absolute, in the full image).
+    pub x: u32,
+    /// Pixel row (absolute).
+    pub y: u32,
+    /// Index of this sample among the pixel's.
+    pub index: u32,
+    /// The pixel's number of samples (1: a single, centred sample).
+    pub count: u32,
+    /// False for [`Sampling::Independent`]: no strata, every number independent.
+    pub stratified: bool,
+}
+
+impl SampleId {
+    /// The single sample of pixel `(x, y)` (centres, SPD corners, `--pixel` probes).
+    pub fn single(x: u32, y: u32) -> SampleId {
+        SampleId {
+            x,
+            y,
+            index: 0,
+            count: 1,
+            stratified: true,
+        }
+    }
+
+    /// A point of the unit square for dimension `dim`: with one sample per pixel its
+    /// centre; otherwise, stratified, a jittered point of stratum `π(index)` of the
+    /// pixel's `count` strata ([`Strata::new`]'s grid), `π` a permutation hashed per
+    /// pixel and dimension; independent, a uniform point.
+    #[inline]
+    pub fn point(&self, dim: Dim) -> (f32, f32) {
+        if self.count <= 1 {
+            return (0.5, 0.5);
+        }
+        let offset = sample_2d(self.x, self.y, self.index, dim);
+        if !self.stratified {
+            return offset;
+        }
+        let seed = mix(pixel_key(self.x, self.y) ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407));
+        let stratum = permute(self.index, self.count, seed as u32);
+        Strata::new(self.count).point(stratum, offset)
     }
 }
 
@@ -95,12 +259,49 @@ fn mix(z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Two numbers in [0, 1) for sample `s` of pixel `(x, y)`, from 24 bits each.
+/// The pixel's coordinates as one 64-bit key.
 #[inline]
-pub fn jitter(x: u32, y: u32, s: u32) -> (f32, f32) {
-    let h = mix(mix(((x as u64) << 32) | y as u64) ^ s as u64);
+fn pixel_key(x: u32, y: u32) -> u64 {
+    ((x as u64) << 32) | y as u64
+}
+
+/// Two numbers in [0, 1) for sample `s` of pixel `(x, y)` in dimension `dim`, from
+/// 24 bits each.
+#[inline]
+pub fn sample_2d(x: u32, y: u32, s: u32, dim: Dim) -> (f32, f32) {
+    let h = mix(mix(pixel_key(x, y)) ^ s as u64 ^ (dim.key() << 32));
     let scale = 1.0 / (1u32 << 24) as f32;
     ((h >> 40) as f32 * scale, ((h >> 8) & 0xFF_FFFF) as f32 * scale)
+}
+
+/// Element `i` of a random permutation of `0..n` chosen by `seed` (`i < n`): a
+/// bijective hash of the bits below `n`'s next power of two, applied again until the
+/// value falls below `n` (cycle walking; Kensler, "Correlated Multi-Jittered
+/// Sampling", 2013). Every step below is invertible on those bits, so the result is
+/// a permutation, and cycle walking stays inside the cycle of `i`.
+#[inline]
+pub fn permute(i: u32, n: u32, seed: u32) -> u32 {
+    debug_assert!(i < n);
+    if n <= 1 {
+        return 0;
+    }
+    let mask = n.next_power_of_two() - 1;
+    let bits = mask.count_ones();
+    let mut v = i;
+    loop {
+        v ^= seed & mask;
+        v = v.wrapping_mul(0xE170_893D) & mask;
+        v ^= (seed >> 16) & mask;
+        v ^= v >> (bits / 2).max(1);
+        v = v.wrapping_add(seed >> 8) & mask;
+        v = v.wrapping_mul(0x0929_EB3F) & mask;
+        v ^= v >> (bits / 3).max(1);
+        v = v.wrapping_mul(1 | (seed >> 27)) & mask;
+        v ^= v >> (1 + bits / 2);
+        if v < n {
+            return v;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -144,11 +345,24 @@ mod tests {
         }
     }
 
+    fn jitter(x: u32, y: u32, s: u32) -> (f32, f32) {
+        sample_2d(x, y, s, Dim::Pixel)
+    }
+
     #[test]
     fn jitter_depends_on_pixel_and_sample_only() {
         assert_eq!(jitter(3, 4, 2), jitter(3, 4, 2));
-        // Swapped coordinates, neighbours and other samples get other offsets.
-        let all = [jitter(3, 4, 2), jitter(4, 3, 2), jitter(3, 5, 2), jitter(3, 4, 3)];
+        // Swapped coordinates, neighbours, other samples and dimensions get other offsets.
+        let lens = sample_2d(3, 4, 2, Dim::Lens);
+        let light = sample_2d(3, 4, 2, Dim::Light { light: 0, depth: 1 });
+        let all = [
+            jitter(3, 4, 2),
+            jitter(4, 3, 2),
+            jitter(3, 5, 2),
+            jitter(3, 4, 3),
+            lens,
+            light,
+        ];
         for i in 0..all.len() {
             for j in i + 1..all.len() {
                 assert_ne!(all[i], all[j]);
@@ -158,5 +372,47 @@ mod tests {
         let n = 10_000;
         let mean: f32 = (0..n).map(|i| jitter(i, 0, 0).0).sum::<f32>() / n as f32;
         assert!((mean - 0.5).abs() < 0.02, "{mean}");
+    }
+
+    #[test]
+    fn permutations_are_permutations() {
+        for n in [1, 2, 3, 4, 5, 9, 16, 17, 100, 1024, 4096] {
+            for seed in [0, 1, 0xDEAD_BEEF, u32::MAX] {
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let p = permute(i, n, seed);
+                    assert!(p < n && !seen[p as usize], "n {n} seed {seed}");
+                    seen[p as usize] = true;
+                }
+            }
+        }
+        // Different seeds give different orders.
+        let order = |seed| (0..16).map(|i| permute(i, 16, seed)).collect::<Vec<_>>();
+        assert_ne!(order(1), order(2));
+        assert_ne!(order(1), (0..16).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn every_dimension_uses_each_stratum_once_per_pixel() {
+        for spp in [4, 9, 16, 12] {
+            let strata = Strata::new(spp);
+            for dim in [Dim::Lens, Dim::Light { light: 3, depth: 2 }] {
+                let mut hits = vec![0; spp as usize];
+                for index in 0..spp {
+                    let id = SampleId {
+                        x: 17,
+                        y: 5,
+                        index,
+                        count: spp,
+                        stratified: true,
+                    };
+                    let (u, v) = id.point(dim);
+                    let cell =
+                        (v * strata.rows as f32) as u32 * strata.cols + (u * strata.cols as f32) as u32;
+                    hits[cell as usize] += 1;
+                }
+                assert!(hits.iter().all(|&h| h == 1), "{spp} {dim:?}: {hits:?}");
+            }
+        }
     }
 }

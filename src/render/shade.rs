@@ -1,36 +1,79 @@
-//! The local illumination model and the reflection/refraction directions.
+//! The shading model: the local illumination at a hit and the secondary rays it
+//! spawns, with their weights. Two models, chosen by the scene's dialect.
 //!
-//! For a hit with material `(C, Kd, Ks, shine, T, ior)`, facing normal `n` (the
-//! geometric normal turned towards the incoming ray), shading normal `ns`, view
-//! direction `v = -d` and point lights of intensity `I_l`:
+//! Both share the local term. For a hit with material `(C, Kd, S, Ks, shine, T, ior)`
+//! (`S`, the specular colour, is white in NFF), facing normal `n` (the geometric
+//! normal turned towards the incoming ray), shading normal `ns`, view direction
+//! `v = -d` and lights of intensity `I_l` sampled at points `p_j` (one for a point
+//! light, `M` for an area light, see `light.rs`):
 //!
 //! ```text
-//! colour = A * Kd * C                                       ambient
-//!        + sum over unshadowed lights with dot(n, l) > 0:
-//!            I_l * (Kd * C * max(0, ns.l) + Ks * max(0, ns.h)^shine)   Lambert + Blinn-Phong,
-//!                                                                       h = normalize(l + v)
-//!        + (Ks + T if total internal reflection) * trace(reflected ray)
-//!        + T * trace(refracted ray)
+//! colour = A * Kd * C                                                  ambient
+//!        + sum over lights, over their points with dot(n, l_j) > 0, unshadowed:
+//!            I_l / M * (Kd * C * max(0, ns.l_j) + Ks * S * max(0, ns.h_j)^shine)
+//!                                       Lambert + Blinn-Phong, h_j = normalize(l_j + v)
+//!        + secondary rays (below)
 //! ```
 //!
-//! `A` and every uncoloured light have intensity `sqrt(n) / (2n)` for n lights (the
-//! SPD's suggestion; `A = 1` without lights).
+//! **NFF (the SPD's Whitted rules)**: every hit on a surface with `Ks > 0` or `T > 0`
+//! spawns a mirror ray of weight `Ks`, and one with `T > 0` a refracted ray of weight
+//! `T` (Snell, `ior` entering and `1/ior` leaving; `ior <= 0` means 1); under total
+//! internal reflection the mirror ray carries `Ks + T`. `A` and every uncoloured light
+//! have intensity `sqrt(n) / (2n)` for n lights (`A = 1` without lights).
+//!
+//! **P3F (the course's)**: lights have their colours as intensities and there is no
+//! ambient term (`A = 0`). An opaque surface (`T = 0`) with `Ks > 0` spawns a mirror
+//! ray of weight `Ks * S`. A transmissive one (`T > 0`) spawns a mirror ray of weight
+//! `R * S` and a refracted ray of weight `(1 - R) * T * C` — the diffuse colour
+//! absorbs, as the course's glass does — where `R` is Schlick's approximation of the
+//! Fresnel reflectance (see [`schlick`]), 1 under total internal reflection.
 
 use crate::math::Vec3;
-use crate::scene::Scene;
+use crate::scene::{Dialect, Material, Scene};
 
-/// Light intensities resolved from the scene.
+use super::light::LightSource;
+
+/// The kind of a secondary ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Branch {
+    /// Mirror reflection.
+    Reflection,
+    /// Mirror reflection under total internal reflection (carries the transmitted share).
+    TotalInternalReflection,
+    /// Refraction.
+    Refraction,
+}
+
+/// Which rules shade the scene (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// NFF: the SPD's Whitted rules.
+    Spd,
+    /// P3F: the course's, with Schlick-Fresnel dielectrics.
+    P3f,
+}
+
+/// The model's light intensities and ambient term for one scene.
 #[derive(Clone, Debug)]
 pub struct Lighting {
+    /// The rules.
+    pub model: Model,
     /// Ambient intensity.
     pub ambient: Vec3,
-    /// Each light's position and intensity.
-    pub lights: Vec<(Vec3, Vec3)>,
+    /// Every light with its intensity.
+    pub lights: Vec<LightSource>,
 }
 
 impl Lighting {
-    /// Resolves the scene's light intensities (see the module docs).
+    /// Resolves the scene's model and intensities (see the module docs).
     pub fn new(scene: &Scene) -> Lighting {
+        if scene.dialect != Dialect::Nff {
+            return Lighting {
+                model: Model::P3f,
+                ambient: Vec3::ZERO,
+                lights: LightSource::of(scene, Vec3::ONE),
+            };
+        }
         let n = scene.lights.len();
         let default = if n == 0 {
             1.0
@@ -38,14 +81,116 @@ impl Lighting {
             (n as f32).sqrt() / (2.0 * n as f32)
         };
         Lighting {
+            model: Model::Spd,
             ambient: Vec3::splat(default),
-            lights: scene
-                .lights
-                .iter()
-                .map(|l| (l.position, l.color.unwrap_or(Vec3::splat(default))))
-                .collect(),
+            lights: LightSource::of(scene, Vec3::splat(default)),
         }
     }
+}
+
+/// The local term of a unit-intensity light in unit direction `l`: Lambert on
+/// `diffuse` (`Kd * C`) plus the Blinn-Phong highlight `Ks * S * max(0, ns.h)^shine`.
+#[inline]
+pub fn local(m: &Material, diffuse: Vec3, ns: Vec3, l: Vec3, view: Vec3) -> Vec3 {
+    let lambert = ns.dot(l).max(0.0);
+    // A negative exponent would turn a zero cosine into infinity.
+    let phong = if m.ks > 0.0 {
+        let h = (l + view).normalize();
+        m.ks * ns.dot(h).max(0.0).powf(m.shine.max(0.0))
+    } else {
+        0.0
+    };
+    diffuse * lambert + m.specular * phong
+}
+
+/// The secondary rays of a hit: the refracted ray's direction and weight, and the
+/// mirror ray's kind and weight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Secondary {
+    /// Direction and weight of the refracted ray.
+    pub refraction: Option<(Vec3, Vec3)>,
+    /// Kind and weight of the mirror ray.
+    pub reflection: Option<(Branch, Vec3)>,
+}
+
+impl Model {
+    /// The secondary rays of a hit on `m` by unit direction `d`, with unit normal
+    /// `n` facing the ray; `entering` says whether the ray crosses into the object.
+    #[inline(always)]
+    pub fn secondary(self, m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+        // Indices of refraction of 0 or less (seen on opaque materials) mean 1.
+        let indices = || {
+            let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
+            if entering {
+                (1.0, ior)
+            } else {
+                (ior, 1.0)
+            }
+        };
+        match self {
+            Model::Spd => {
+                if m.ks <= 0.0 && m.t <= 0.0 {
+                    return Secondary {
+                        refraction: None,
+                        reflection: None,
+                    };
+                }
+                let mut weight = m.ks;
+                let mut kind = Branch::Reflection;
+                let mut refraction = None;
+                if m.t > 0.0 {
+                    let (n1, n2) = indices();
+                    match refract(d, n, n1 / n2) {
+                        Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
+                        // Total internal reflection: the transmitted share goes to the mirror ray.
+                        None => {
+                            weight += m.t;
+                            kind = Branch::TotalInternalReflection;
+                        }
+                    }
+                }
+                Secondary {
+                    refraction,
+                    reflection: Some((kind, Vec3::splat(weight))),
+                }
+            }
+            Model::P3f if m.t > 0.0 => {
+                let (n1, n2) = indices();
+                match refract(d, n, n1 / n2) {
+                    Some(dir) => {
+                        let cos_i = -d.dot(n);
+                        let cos_t = -dir.dot(n);
+                        let r = schlick(cos_i, cos_t, n1, n2);
+                        Secondary {
+                            refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
+                            reflection: Some((Branch::Reflection, m.specular * r)),
+                        }
+                    }
+                    None => Secondary {
+                        refraction: None,
+                        reflection: Some((Branch::TotalInternalReflection, m.specular)),
+                    },
+                }
+            }
+            Model::P3f => Secondary {
+                refraction: None,
+                reflection: (m.ks > 0.0).then_some((Branch::Reflection, m.specular * m.ks)),
+            },
+        }
+    }
+}
+
+/// Schlick's approximation of the Fresnel reflectance of a dielectric interface from
+/// index `n1` into `n2`: `R0 + (1 - R0) (1 - cos)^5`, `R0 = ((n1 - n2) / (n1 + n2))^2`,
+/// with `cos` the cosine of the angle on the optically thinner side (the incident
+/// angle `cos_i` entering a denser medium, the transmitted angle `cos_t` leaving
+/// one), which keeps the approximation symmetric and close to Fresnel's equations.
+#[inline]
+pub fn schlick(cos_i: f32, cos_t: f32, n1: f32, n2: f32) -> f32 {
+    let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
+    let cos = if n1 <= n2 { cos_i } else { cos_t };
+    let k = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
+    r0 + (1.0 - r0) * k
 }
 
 /// Mirror reflection of `d` about the unit normal `n`.
@@ -109,13 +254,62 @@ mod tests {
     fn default_intensity_is_sqrt_n_over_2n() {
         let mut scene = Scene::default();
         for _ in 0..4 {
-            scene.lights.push(crate::scene::Light {
-                position: Vec3::ZERO,
-                color: None,
-            });
+            scene.lights.push(crate::scene::Light::point(Vec3::ZERO, None));
         }
         let l = Lighting::new(&scene);
         assert_eq!(l.ambient, Vec3::splat(0.25));
-        assert_eq!(l.lights[3].1, Vec3::splat(0.25));
+        assert_eq!(l.lights[3].intensity, Vec3::splat(0.25));
+    }
+
+    #[test]
+    fn schlick_at_normal_and_grazing_incidence() {
+        // Normal incidence, air into glass of index 1.5: R0 = (0.5 / 2.5)^2 = 0.04,
+        // the same from either side.
+        assert!((schlick(1.0, 1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((schlick(1.0, 1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
+        // Grazing incidence reflects everything.
+        assert!((schlick(0.0, 0.745, 1.0, 1.5) - 1.0).abs() < 1e-6);
+        // At 60 degrees into water (1.33): R0 = (0.33 / 2.33)^2, (1 - 0.5)^5 = 1/32.
+        let r0 = (0.33f32 / 2.33).powi(2);
+        assert!((schlick(0.5, 0.8, 1.0, 1.33) - (r0 + (1.0 - r0) / 32.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn p3f_glass_splits_by_fresnel_and_absorbs_by_its_colour() {
+        let glass = Material {
+            color: Vec3::new(1.0, 0.5, 0.25),
+            kd: 0.0,
+            specular: Vec3::ONE,
+            ks: 0.2,
+            shine: 20.0,
+            t: 1.0,
+            ior: 1.5,
+        };
+        let n = Vec3::new(0.0, 1.0, 0.0);
+        let s = Model::P3f.secondary(&glass, -n, n, true);
+        let (dir, tw) = s.refraction.unwrap();
+        assert!(close(dir, -n));
+        assert!(close(tw, Vec3::new(0.96, 0.48, 0.24)));
+        assert_eq!(s.reflection.map(|(k, _)| k), Some(Branch::Reflection));
+        assert!(close(s.reflection.unwrap().1, Vec3::splat(0.04)));
+        // Leaving past the critical angle: everything goes to the mirror ray.
+        let d = Vec3::new(0.8, -0.6, 0.0);
+        let s = Model::P3f.secondary(&glass, d, n, false);
+        assert_eq!(s.refraction, None);
+        assert_eq!(s.reflection, Some((Branch::TotalInternalReflection, Vec3::ONE)));
+        // Opaque P3F: a mirror ray of Ks times the specular colour, only if Ks > 0.
+        let metal = Material {
+            t: 0.0,
+            specular: Vec3::new(1.0, 0.5, 0.0),
+            ks: 0.5,
+            ..glass
+        };
+        let s = Model::P3f.secondary(&metal, -n, n, true);
+        assert_eq!(
+            s.reflection,
+            Some((Branch::Reflection, Vec3::new(0.5, 0.25, 0.0)))
+        );
+        let matte = Material { ks: 0.0, ..metal };
+        assert_eq!(Model::P3f.secondary(&matte, -n, n, true).reflection, None);
     }
 }

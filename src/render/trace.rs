@@ -5,25 +5,28 @@
 //! hot path pays nothing; `--pixel` passes a recorder that builds the ray tree
 //! (`render::debug`). One code path thus both renders and explains a pixel.
 
-use super::shade::{reflect, refract, Lighting};
+use super::background::Background;
+use super::light::{LightSampling, LightSource};
+use super::sampling::SampleId;
+use super::shade::{local, reflect, Lighting};
 use super::stats::Stats;
+use super::RenderOptions;
 use std::cell::Cell;
 
+pub use super::shade::Branch;
 use crate::accel::{Bvh, NO_HINT, PACKET};
-use crate::geometry::{Hit, Primitive};
+use crate::geometry::{point_error, Hit, Primitive};
+use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Material, Scene};
-
-/// Secondary-ray origins are pushed off the surface by this fraction of the
-/// magnitude of the coordinates involved (see [`offset_scale`]).
-const OFFSET_REL: f32 = 4e-6;
 
 /// Everything needed to trace rays through one scene.
 pub struct Tracer<'a> {
     bvh: &'a Bvh,
     materials: &'a [Material],
     lighting: Lighting,
-    background: Vec3,
+    light_sampling: LightSampling,
+    background: Background,
     max_depth: u32,
 }
 
@@ -48,26 +51,28 @@ pub struct HitRecord<'a> {
     pub ambient: Vec3,
 }
 
-/// What became of one light at a hit.
+/// What became of one point of a light at a hit (the whole of a point light).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightOutcome {
-    /// The light is behind the surface: no shadow ray (SPD rule).
+    /// The point is behind the surface: no shadow ray (SPD rule).
     Behind,
-    /// A shadow ray found an object between the point and the light.
+    /// A shadow ray found an object between the hit and the point.
     Shadowed,
-    /// The light's diffuse + specular contribution.
+    /// The point's diffuse + specular contribution.
     Lit(Vec3),
 }
 
-/// The kind of a secondary ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Branch {
-    /// Mirror reflection (weight Ks).
-    Reflection,
-    /// Mirror reflection under total internal reflection (weight Ks + T).
-    TotalInternalReflection,
-    /// Refraction (weight T).
-    Refraction,
+/// What became of an area light at a hit: its points' outcomes summed up.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AreaOutcome {
+    /// Points sampled.
+    pub samples: u32,
+    /// Of those, points behind the surface (no shadow ray).
+    pub behind: u32,
+    /// Of those, points whose shadow ray was blocked.
+    pub shadowed: u32,
+    /// The light's total contribution.
+    pub contribution: Vec3,
 }
 
 /// Receives the events of the Whitted recursion, depth first: for each ray either
@@ -77,14 +82,19 @@ pub trait Recorder {
     /// False for a recorder that ignores everything: the tracer then skips building
     /// the reports altogether.
     const ENABLED: bool = true;
-    /// The ray left the scene and sees `background`.
-    fn miss(&mut self, _ray: &Ray, _background: Vec3) {}
+    /// The ray left the scene and sees `background`, from skybox texel `texel` if
+    /// the background is a skybox.
+    fn miss(&mut self, _ray: &Ray, _background: Vec3, _texel: Option<SkyTexel>) {}
     /// The ray hit a surface.
     fn hit(&mut self, _ray: &Ray, _hit: &HitRecord) {}
-    /// Light `index` (in file order) at the current hit.
+    /// Point light `index` (in file order) at the current hit.
     fn light(&mut self, _index: usize, _outcome: LightOutcome) {}
+    /// One point of area light `index` at the current hit, with that point's share.
+    fn light_sample(&mut self, _index: usize, _point: Vec3, _outcome: LightOutcome) {}
+    /// Area light `index` at the current hit, after its points.
+    fn area_light(&mut self, _index: usize, _outcome: AreaOutcome) {}
     /// A secondary ray with this weight is about to be traced.
-    fn branch(&mut self, _kind: Branch, _weight: f32) {}
+    fn branch(&mut self, _kind: Branch, _weight: Vec3) {}
     /// The current hit's final colour.
     fn done(&mut self, _color: Vec3) {}
 }
@@ -115,14 +125,6 @@ pub fn reset_shadow_cache() {
     SHADOW_HINTS.with(|hints| hints.iter().for_each(|h| h.set(NO_HINT)));
 }
 
-/// How far to push a secondary ray's origin off the surface at `p`, hit by `ray`
-/// at distance `t`: proportional to the floating-point error of `p = o + t d`, so it
-/// works for tiny and huge scenes alike (no global epsilon).
-#[inline]
-fn offset_scale(p: Vec3, ray: &Ray, t: f32) -> f32 {
-    OFFSET_REL * (p.abs().max_elem() + ray.origin.abs().max_elem() + t) + f32::MIN_POSITIVE
-}
-
 /// An eye ray's colour for the image: a NaN or infinity never reaches it (black).
 #[inline]
 fn finite_or_black(c: Vec3) -> Vec3 {
@@ -134,48 +136,74 @@ fn finite_or_black(c: Vec3) -> Vec3 {
 }
 
 impl<'a> Tracer<'a> {
-    /// Prepares lighting for `scene`, traced through `bvh`.
-    pub fn new(scene: &'a Scene, bvh: &'a Bvh, max_depth: u32) -> Self {
+    /// Prepares lighting for `scene`, traced through `bvh` with the depth and light
+    /// sampling of `opts`.
+    pub fn new(scene: &'a Scene, bvh: &'a Bvh, opts: &RenderOptions) -> Self {
         Tracer {
             bvh,
             materials: &scene.materials,
             lighting: Lighting::new(scene),
-            background: scene.background,
-            max_depth,
+            light_sampling: LightSampling {
+                grid_override: opts.light_samples,
+                soft_shadows: opts.soft_shadows,
+            },
+            background: Background::of(scene),
+            max_depth: opts.max_depth,
         }
     }
 
-    /// Traces an eye ray (depth 1), counting it.
+    /// Traces the eye ray of sample `id` (depth 1), counting it.
     #[inline]
-    pub fn trace_eye(&self, ray: &Ray, stats: &mut Stats) -> Vec3 {
-        self.trace_eye_recorded(ray, stats, &mut NoRecord)
+    pub fn trace_eye(&self, ray: &Ray, id: &SampleId, stats: &mut Stats) -> Vec3 {
+        self.trace_eye_recorded(ray, id, stats, &mut NoRecord)
     }
 
     /// Traces an eye ray like [`Tracer::trace_eye`], reporting to `rec`.
     #[inline]
-    pub fn trace_eye_recorded<R: Recorder>(&self, ray: &Ray, stats: &mut Stats, rec: &mut R) -> Vec3 {
+    pub fn trace_eye_recorded<R: Recorder>(
+        &self,
+        ray: &Ray,
+        id: &SampleId,
+        stats: &mut Stats,
+        rec: &mut R,
+    ) -> Vec3 {
         stats.eye_rays += 1;
-        finite_or_black(self.trace(ray, 1, stats, rec))
+        finite_or_black(self.trace(ray, 1, id, stats, rec))
     }
 
     /// The colour seen along `ray` at ray-tree depth `depth`.
-    fn trace<R: Recorder>(&self, ray: &Ray, depth: u32, stats: &mut Stats, rec: &mut R) -> Vec3 {
+    fn trace<R: Recorder>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        id: &SampleId,
+        stats: &mut Stats,
+        rec: &mut R,
+    ) -> Vec3 {
         let found = self.bvh.closest_hit(ray, f32::INFINITY);
-        self.shade(ray, depth, found, stats, rec)
+        self.shade(ray, depth, found, id, stats, rec)
     }
 
     /// Eye rays (depth 1) a row at a time, [`PACKET`] neighbours traced through the
     /// BVH together, each then shaded as [`Tracer::trace_eye`] shades it (packets find
     /// the very hits single rays find, so the colours are the same); appends the
-    /// colours to `out`.
-    pub fn trace_eye_row(&self, rays: &[Ray], stats: &mut Stats, out: &mut Vec<Vec3>) {
+    /// colours to `out`. Ray `i` is the single sample of pixel `(x0 + i, y)`.
+    pub fn trace_eye_row(&self, rays: &[Ray], (x0, y): (u32, u32), stats: &mut Stats, out: &mut Vec<Vec3>) {
         let mut hits = [None; PACKET];
-        for packet in rays.chunks(PACKET) {
+        for (c, packet) in rays.chunks(PACKET).enumerate() {
             let hits = &mut hits[..packet.len()];
             self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
-            for (ray, &found) in packet.iter().zip(hits.iter()) {
+            for (i, (ray, &found)) in packet.iter().zip(hits.iter()).enumerate() {
                 stats.eye_rays += 1;
-                out.push(finite_or_black(self.shade(ray, 1, found, stats, &mut NoRecord)));
+                let id = SampleId::single(x0 + (c * PACKET + i) as u32, y);
+                out.push(finite_or_black(self.shade(
+                    ray,
+                    1,
+                    found,
+                    &id,
+                    stats,
+                    &mut NoRecord,
+                )));
             }
         }
     }
@@ -186,14 +214,16 @@ impl<'a> Tracer<'a> {
         ray: &Ray,
         depth: u32,
         found: Option<(Hit, u32)>,
+        id: &SampleId,
         stats: &mut Stats,
         rec: &mut R,
     ) -> Vec3 {
         let Some((hit, index)) = found else {
+            let (color, texel) = self.background.look(ray.dir);
             if R::ENABLED {
-                rec.miss(ray, self.background);
+                rec.miss(ray, color, texel);
             }
-            return self.background;
+            return color;
         };
         if depth == 1 {
             stats.eye_hits += 1;
@@ -212,10 +242,14 @@ impl<'a> Tracer<'a> {
         } else {
             (-surface.normal, -surface.shading_normal)
         };
-        let eps = offset_scale(p, ray, hit.t);
-        let above = p + n * eps;
-        let view = -ray.dir;
-
+        // Secondary rays start off the surface by the point's error bound, on the
+        // ray's side (shadow and mirror rays) or the far side (refracted rays).
+        let offset = prim.origin_offset(&surface, point_error(p, ray, hit.t));
+        let (above, below) = if entering {
+            (p + offset, p - offset)
+        } else {
+            (p - offset, p + offset)
+        };
         let diffuse = m.color * m.kd;
         let mut color = self.lighting.ambient.mul_elem(diffuse);
         if R::ENABLED {
@@ -231,87 +265,149 @@ impl<'a> Tracer<'a> {
             };
             rec.hit(ray, &record);
         }
-        for (k, &(light_pos, intensity)) in self.lighting.lights.iter().enumerate() {
-            let to_light = light_pos - above;
-            // No shadow ray when the light is behind the surface (SPD rule 6).
-            if n.dot(to_light) <= 0.0 {
-                if R::ENABLED {
-                    rec.light(k, LightOutcome::Behind);
-                }
+        let view = -ray.dir;
+        for (k, light) in self.lighting.lights.iter().enumerate() {
+            if light.area.is_some() {
+                let at = Lit {
+                    m,
+                    diffuse,
+                    above,
+                    n,
+                    ns,
+                    view,
+                    depth,
+                };
+                color += self.area_light(k, light, &at, id, stats, rec);
                 continue;
             }
-            stats.shadow_rays += 1;
-            // Aimed at the light unnormalized, blockers sought below t = 1: the ray's
-            // reciprocal direction then no longer waits on a square root and a
-            // division (the longest chain in setting up a shadow ray); the
-            // intersection tests do not need unit directions.
-            let shadow_ray = Ray::new(above, to_light);
-            let slot = k * HINT_DEPTHS + (depth as usize - 1);
-            let blocked = if k < HINT_LIGHTS && (depth as usize) <= HINT_DEPTHS {
-                SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, 1.0, &hints[slot]))
-            } else {
-                self.bvh.occluded(&shadow_ray, 1.0)
+            let at = Lit {
+                m,
+                diffuse,
+                above,
+                n,
+                ns,
+                view,
+                depth,
             };
-            if blocked {
-                stats.shadow_blocked += 1;
-                if R::ENABLED {
-                    rec.light(k, LightOutcome::Shadowed);
-                }
-                continue;
-            }
-            let l = to_light / to_light.length();
-            let lambert = ns.dot(l).max(0.0);
-            let h = (l + view).normalize();
-            // A negative exponent would turn a zero cosine into infinity.
-            let phong = if m.ks > 0.0 {
-                m.ks * ns.dot(h).max(0.0).powf(m.shine.max(0.0))
-            } else {
-                0.0
-            };
-            let contribution = intensity.mul_elem(diffuse * lambert + Vec3::splat(phong));
+            let outcome = self.light_point(k, light.position, light.intensity, at, stats);
             if R::ENABLED {
-                rec.light(k, LightOutcome::Lit(contribution));
+                rec.light(k, outcome);
             }
-            color += contribution;
+            if let LightOutcome::Lit(c) = outcome {
+                color += c;
+            }
         }
 
-        if depth >= self.max_depth || (m.ks <= 0.0 && m.t <= 0.0) {
+        if depth >= self.max_depth {
             if R::ENABLED {
                 rec.done(color);
             }
             return color;
         }
-        let mut reflect_weight = m.ks;
-        let mut reflect_kind = Branch::Reflection;
-        if m.t > 0.0 {
-            // Indices of refraction of 0 or less (seen on opaque materials) mean 1.
-            let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
-            let eta = if entering { 1.0 / ior } else { ior };
-            match refract(ray.dir, n, eta) {
-                Some(dir) => {
-                    stats.refraction_rays += 1;
-                    let below = p - n * eps;
-                    if R::ENABLED {
-                        rec.branch(Branch::Refraction, m.t);
-                    }
-                    color += self.trace(&Ray::new(below, dir), depth + 1, stats, rec) * m.t;
-                }
-                // Total internal reflection: the transmitted share goes to the mirror ray.
-                None => {
-                    reflect_weight += m.t;
-                    reflect_kind = Branch::TotalInternalReflection;
-                }
+        let secondary = self.lighting.model.secondary(m, ray.dir, n, entering);
+        if let Some((dir, weight)) = secondary.refraction {
+            stats.refraction_rays += 1;
+            if R::ENABLED {
+                rec.branch(Branch::Refraction, weight);
             }
+            color += self
+                .trace(&Ray::new(below, dir), depth + 1, id, stats, rec)
+                .mul_elem(weight);
         }
-        stats.reflection_rays += 1;
-        let r = Ray::new(above, reflect(ray.dir, n));
-        if R::ENABLED {
-            rec.branch(reflect_kind, reflect_weight);
+        if let Some((kind, weight)) = secondary.reflection {
+            stats.reflection_rays += 1;
+            let r = Ray::new(above, reflect(ray.dir, n));
+            if R::ENABLED {
+                rec.branch(kind, weight);
+            }
+            color += self.trace(&r, depth + 1, id, stats, rec).mul_elem(weight);
         }
-        let color = color + self.trace(&r, depth + 1, stats, rec) * reflect_weight;
         if R::ENABLED {
             rec.done(color);
         }
         color
     }
+
+    /// The contribution of area light `k` at a hit: its points' shadow rays and
+    /// local terms, each point with its share of the intensity.
+    fn area_light<R: Recorder>(
+        &self,
+        k: usize,
+        light: &LightSource,
+        at: &Lit,
+        id: &SampleId,
+        stats: &mut Stats,
+        rec: &mut R,
+    ) -> Vec3 {
+        let share = light.intensity * (1.0 / light.point_count(&self.light_sampling, id) as f32);
+        let mut area = AreaOutcome::default();
+        let count = light.sample_points(&self.light_sampling, id, k, at.depth, |point| {
+            let outcome = self.light_point(k, point, share, *at, stats);
+            match outcome {
+                LightOutcome::Behind => area.behind += 1,
+                LightOutcome::Shadowed => area.shadowed += 1,
+                LightOutcome::Lit(c) => area.contribution += c,
+            }
+            if R::ENABLED {
+                rec.light_sample(k, point, outcome);
+            }
+        });
+        if R::ENABLED {
+            area.samples = count;
+            rec.area_light(k, area);
+        }
+        area.contribution
+    }
+
+    /// One point of light `k`, of the given intensity, seen from a hit: behind the
+    /// surface (no shadow ray), shadowed, or its local term.
+    #[inline(always)]
+    fn light_point(
+        &self,
+        k: usize,
+        point: Vec3,
+        intensity: Vec3,
+        at: Lit,
+        stats: &mut Stats,
+    ) -> LightOutcome {
+        let to_light = point - at.above;
+        if at.n.dot(to_light) <= 0.0 {
+            return LightOutcome::Behind;
+        }
+        stats.shadow_rays += 1;
+        // Aimed at the light unnormalized, blockers sought below t = 1: the ray's
+        // reciprocal direction then no longer waits on a square root and a division
+        // (the longest chain in setting up a shadow ray); the intersection tests do
+        // not need unit directions.
+        let shadow_ray = Ray::new(at.above, to_light);
+        let blocked = if k < HINT_LIGHTS && (at.depth as usize) <= HINT_DEPTHS {
+            let slot = k * HINT_DEPTHS + (at.depth as usize - 1);
+            SHADOW_HINTS.with(|hints| self.bvh.occluded_hinted(&shadow_ray, 1.0, &hints[slot]))
+        } else {
+            self.bvh.occluded(&shadow_ray, 1.0)
+        };
+        if blocked {
+            stats.shadow_blocked += 1;
+            return LightOutcome::Shadowed;
+        }
+        let l = to_light / to_light.length();
+        LightOutcome::Lit(intensity.mul_elem(local(at.m, at.diffuse, at.ns, l, at.view)))
+    }
+}
+
+/// What the lights see of one hit.
+#[derive(Clone, Copy)]
+struct Lit<'m> {
+    m: &'m Material,
+    /// `Kd * C`.
+    diffuse: Vec3,
+    /// The shadow rays' origin, off the surface on the ray's side.
+    above: Vec3,
+    /// Geometric normal facing the ray.
+    n: Vec3,
+    /// Shading normal facing the ray.
+    ns: Vec3,
+    /// Towards the ray's origin.
+    view: Vec3,
+    depth: u32,
 }

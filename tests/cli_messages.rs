@@ -1,0 +1,202 @@
+//! What the command line says when it is used wrongly, and what its help says: one
+//! wording for one mistake in every subcommand, negative numbers read as the bad
+//! values they are, typos answered with clap's "did you mean" and the subcommand's
+//! own help, limits stated in words, and scene files that are not text named as such.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Output;
+
+fn nffrt(args: &[&str]) -> Output {
+    common::nffrt(args, b"")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    common::scratch_dir("cli_messages", name)
+}
+
+const SHOWCASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/showcase.nff");
+
+/// The one error line of a run that must fail with `code`.
+fn error_line(out: &Output, code: i32) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
+    assert_eq!(err.lines().count(), 1, "not one line: {err}");
+    assert!(err.starts_with("nffrt: error: "), "{err}");
+    assert!(out.stdout.is_empty());
+    err.trim_end().to_string()
+}
+
+fn help(args: &[&str]) -> String {
+    let out = nffrt(args);
+    assert!(out.status.success());
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Item 6: a negative number is a bad value of its flag, with the range in words.
+#[test]
+fn negative_numbers_are_bad_values_not_unknown_arguments() {
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["render", SHOWCASE, "--spp", "-1"],
+            "invalid value '-1' for '--spp <N>': must be a whole number from 1 to 4096",
+        ),
+        (
+            &["render", SHOWCASE, "--max-depth", "-3"],
+            "invalid value '-3' for '--max-depth <N>': must be a whole number from 1 to 64",
+        ),
+        (
+            &["render", SHOWCASE, "--pixel", "-1,2"],
+            "invalid value '-1,2' for '--pixel <X,Y>': '-1' is not a whole number",
+        ),
+        (
+            &["gen", "balls", "--size", "-1"],
+            "invalid value '-1' for '--size <N>': must be a whole number from 1",
+        ),
+        (
+            &["info", SHOWCASE, "--max-lights", "-1"],
+            "invalid value '-1' for '--max-lights <N>': must be a whole number, 0 or more",
+        ),
+    ];
+    for (args, want) in cases {
+        let line = error_line(&nffrt(args), 2);
+        assert!(line.contains(want), "{args:?}: {line}");
+        assert!(!line.contains("unexpected argument"), "{line}");
+    }
+}
+
+/// Item 7: a typo gets clap's suggestion, and the pointer to the help that lists the
+/// subcommand's flags.
+#[test]
+fn typos_get_a_suggestion_and_the_subcommands_help() {
+    let line = error_line(&nffrt(&["render", SHOWCASE, "--sp", "4"]), 2);
+    assert!(
+        line.ends_with("unexpected argument '--sp' found; did you mean '--spp'? (see nffrt render --help)"),
+        "{line}"
+    );
+    let line = error_line(&nffrt(&["rendr", SHOWCASE]), 2);
+    assert!(
+        line.ends_with("unrecognized subcommand 'rendr'; did you mean 'render'? (see nffrt --help)"),
+        "{line}"
+    );
+    let line = error_line(&nffrt(&["gen", "balls", "--sise", "2"]), 2);
+    assert!(
+        line.contains("did you mean '--size'? (see nffrt gen --help)"),
+        "{line}"
+    );
+}
+
+/// Item 11: `gen` words an unwritable output like `render`, and a size of 0 is
+/// answered with the range, not with the size after the largest.
+#[test]
+fn gen_words_its_errors_like_render() {
+    let dir = scratch("gen_words");
+    let missing = dir.join("missing");
+    let nff = missing.join("x.nff");
+    let png = missing.join("x.png");
+    let gen = error_line(&nffrt(&["gen", "tetra", "-o", nff.to_str().unwrap()]), 4);
+    let render = error_line(&nffrt(&["render", SHOWCASE, "-o", png.to_str().unwrap()]), 4);
+    let reason = |line: &str, path: &PathBuf| {
+        line.strip_prefix(&format!("nffrt: error: {}", path.display()))
+            .unwrap_or_else(|| panic!("{line}"))
+            .to_string()
+    };
+    assert_eq!(
+        reason(&gen, &nff),
+        ": cannot write output: no such file or directory"
+    );
+    assert_eq!(reason(&gen, &nff), reason(&render, &png));
+    let zero = error_line(&nffrt(&["gen", "balls", "--size", "0"]), 2);
+    assert!(
+        zero.ends_with("invalid value '0' for '--size <N>': must be a whole number from 1 to 7 for balls"),
+        "{zero}"
+    );
+    // Above the largest size, the reason is given.
+    let eight = error_line(&nffrt(&["gen", "balls", "--size", "8"]), 2);
+    assert!(
+        eight.contains("invalid value '8' for '--size <N>'") && eight.contains("over the limit"),
+        "{eight}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 12: help texts say limits in words, `bench` speaks of rays (not of renders or
+/// `--spd`) and cites nothing outside the repository, every number is `<N>`, and
+/// `--version` works after a subcommand too.
+#[test]
+fn help_says_limits_in_words_and_names_values_alike() {
+    let render = help(&["render", "--help"]);
+    for want in ["Samples per pixel, 1 to 4096", "Maximum ray-tree depth, 1 to 64"] {
+        assert!(render.contains(want), "{want:?} in\n{render}");
+    }
+    let bench = help(&["bench", "--help"]);
+    for unwanted in ["--spd", "render", "embree_anchor"] {
+        assert!(!bench.contains(unwanted), "{unwanted:?} in\n{bench}");
+    }
+    for sub in ["render", "bench", "gen", "info", "merge"] {
+        let text = help(&[sub, "--help"]);
+        for odd in [
+            "<WIDTH>",
+            "<HEIGHT>",
+            "<THREADS>",
+            "<REPEAT>",
+            "<RANDOM>",
+            "<SEED>",
+            "<SIZE>",
+            "<MAX_DEPTH>",
+            "<OUTPUT>",
+        ] {
+            assert!(!text.contains(odd), "{sub} --help names a value {odd}");
+        }
+    }
+    let pixel = error_line(&nffrt(&["render", SHOWCASE, "--pixel", "4"]), 2);
+    assert!(
+        pixel.contains("expected 2 comma-separated whole numbers, found 1 number"),
+        "{pixel}"
+    );
+    let version = nffrt(&["render", "--version"]);
+    assert!(version.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&version.stdout),
+        String::from_utf8_lossy(&nffrt(&["--version"]).stdout)
+    );
+}
+
+/// Item 8: a UTF-8 byte-order mark before the first keyword is skipped; a PNG given
+/// as the scene is named binary data, at its first control byte.
+#[test]
+fn a_byte_order_mark_is_skipped_and_binary_files_are_named() {
+    let dir = scratch("bom");
+    let text = std::fs::read(SHOWCASE).unwrap();
+    let with_bom = dir.join("bom.nff");
+    std::fs::write(&with_bom, [&b"\xEF\xBB\xBF"[..], &text].concat()).unwrap();
+    let info = |path: &str| nffrt(&["info", "--json", path]);
+    let plain = info(SHOWCASE);
+    let bom = info(with_bom.to_str().unwrap());
+    assert!(bom.status.success(), "{}", String::from_utf8_lossy(&bom.stderr));
+    let counts = |o: &Output| {
+        let mut j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        j.as_object_mut().unwrap().remove("parse_s");
+        j
+    };
+    assert_eq!(counts(&bom), counts(&plain));
+    // A PNG's signature is 0x89 P N G \r \n 0x1a \n: the 0x1a at offset 6 is binary.
+    let png = dir.join("picture.png");
+    let o = nffrt(&[
+        "render",
+        SHOWCASE,
+        "--width",
+        "8",
+        "-q",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let line = error_line(&info(png.to_str().unwrap()), 3);
+    assert!(
+        line.ends_with("picture.png:2:1: not a text scene: binary data at byte offset 6 (0x1a)"),
+        "{line}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
