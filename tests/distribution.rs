@@ -104,6 +104,7 @@ fn the_penumbra_of_a_straight_edge_matches_the_visible_fraction_of_a_quad_light(
                 index,
                 count: n,
                 stratified: true,
+                strata: nffrt::render::Strata::new(n),
             };
             let down = Ray::new(Vec3::new(x, 0.3, 0.5), Vec3::new(0.0, 0.0, -1.0));
             tracer.trace_eye(&down, &id, &mut stats);

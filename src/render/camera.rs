@@ -132,7 +132,7 @@ impl Camera {
 
     /// The ray of sample `s` from its point on the lens through the focal-plane point
     /// of its pinhole ray.
-    #[inline(never)]
+    #[inline]
     fn lens_ray(&self, lens: &ThinLens, s: &CameraSample) -> Ray {
         let (lx, ly) = concentric_disc(s.lens);
         let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
@@ -150,12 +150,27 @@ pub fn concentric_disc((u, v): (f32, f32)) -> (f32, f32) {
         return (0.0, 0.0);
     }
     let quarter = std::f32::consts::FRAC_PI_4;
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, quarter * (b / a))
+    // The angle is a quarter turn times the ratio of the smaller coordinate to the
+    // larger, within [-pi/4, pi/4], measured from the x axis for |a| > |b| and from the
+    // y axis otherwise (there cos and sin trade places).
+    if a.abs() > b.abs() {
+        let (s, c) = sin_cos_quarter(quarter * (b / a));
+        (a * c, a * s)
     } else {
-        (b, 2.0 * quarter - quarter * (a / b))
-    };
-    (r * phi.cos(), r * phi.sin())
+        let (s, c) = sin_cos_quarter(quarter * (a / b));
+        (b * s, b * c)
+    }
+}
+
+/// `(sin x, cos x)` for `|x| <= pi/4` by their Taylor polynomials, to degree 7 and 8:
+/// the first term left out is below 3.2e-7 and 2.5e-8 there, within the rounding of
+/// `f32` (and several times faster than libm's `sincosf`, a third of a lens ray's cost).
+#[inline]
+fn sin_cos_quarter(x: f32) -> (f32, f32) {
+    let x2 = x * x;
+    let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0))));
+    let cos = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40320.0))));
+    (sin, cos)
 }
 
 #[cfg(test)]
@@ -212,6 +227,15 @@ mod tests {
         assert!((top - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
         let left = c.ray_at(0.0, 2.0).dir;
         assert!((left - Vec3::new(-1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn the_quarter_turn_sine_and_cosine_match_the_library() {
+        for i in -1000..=1000 {
+            let x = std::f32::consts::FRAC_PI_4 * i as f32 / 1000.0;
+            let (s, c) = sin_cos_quarter(x);
+            assert!((s - x.sin()).abs() < 5e-7 && (c - x.cos()).abs() < 5e-7, "{x}");
+        }
     }
 
     #[test]

@@ -179,6 +179,7 @@ mod tests {
                 index,
                 count: 16,
                 stratified: true,
+                strata: crate::render::Strata::new(16),
             };
             let p = points(&quad(2), &PLAN, &id);
             assert_eq!(p.len(), 1);

@@ -159,6 +159,7 @@ impl PixelSampler {
             index,
             count: self.count,
             stratified: self.stratified,
+            strata: self.strata,
         };
         let raster = if self.stratified {
             self.strata.position(x, y, index)
@@ -217,6 +218,9 @@ pub struct SampleId {
     pub count: u32,
     /// False for [`Sampling::Independent`]: no strata, every number independent.
     pub stratified: bool,
+    /// The strata of `count` samples ([`Strata::new`]`(count)`), worked out once per
+    /// render.
+    pub strata: Strata,
 }
 
 impl SampleId {
@@ -228,6 +232,7 @@ impl SampleId {
             index: 0,
             count: 1,
             stratified: true,
+            strata: Strata { cols: 1, rows: 1 },
         }
     }
 
@@ -246,7 +251,7 @@ impl SampleId {
         }
         let seed = mix(pixel_key(self.x, self.y) ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407));
         let stratum = permute(self.index, self.count, seed as u32);
-        Strata::new(self.count).point(stratum, offset)
+        self.strata.point(stratum, offset)
     }
 }
 
@@ -405,6 +410,7 @@ mod tests {
                         index,
                         count: spp,
                         stratified: true,
+                        strata,
                     };
                     let (u, v) = id.point(dim);
                     let cell =
