@@ -163,3 +163,43 @@ fn stratified_16_spp_is_closer_to_the_converged_picture_than_16_independent_samp
         "stratified {stratified} vs independent {independent}"
     );
 }
+
+#[test]
+fn distribution_effects_are_deterministic_across_threads_and_tiles() {
+    use nffrt::image::Region;
+    use nffrt::render::{render_region, Silent};
+    let scene = p3f(SOFT_SCENE);
+    let bvh = Bvh::new(build_geometry(&scene));
+    let opts = RenderOptions {
+        sampling: Sampling::Stratified { spp: 9 },
+        ..RenderOptions::from_scene(&scene)
+    };
+    let on = |threads: usize, region: Region| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| render_region(&scene, &bvh, &opts, &region, &Silent).unwrap().0)
+    };
+    let full = on(1, Region::full(opts.width, opts.height));
+    for threads in [2, 3, 8] {
+        assert!(
+            on(threads, Region::full(opts.width, opts.height)) == full,
+            "{threads} threads"
+        );
+    }
+    // A crop has exactly the full picture's pixels: lens, light and pixel samples
+    // hash absolute pixel coordinates.
+    let crop = Region {
+        x0: 5,
+        y0: 3,
+        x1: 17,
+        y1: 11,
+    };
+    let tile = on(2, crop);
+    for y in crop.y0..crop.y1 {
+        for x in crop.x0..crop.x1 {
+            assert_eq!(tile.get(x - crop.x0, y - crop.y0), full.get(x, y), "({x}, {y})");
+        }
+    }
+}
