@@ -58,7 +58,7 @@ fn gen(py: Python<'_>, name: &str, size: Option<u32>) -> PyResult<String> {
     };
     let size = size.unwrap_or_else(|| which.default_size());
     py.detach(|| {
-        let scene = generate(which, size).map_err(|e| e.to_string())?;
+        let scene = generate(which, size).map_err(|e| format!("size={size}: {e}"))?;
         let mut text = Vec::new();
         write_nff(&scene, &mut text).map_err(|e| e.to_string())?;
         String::from_utf8(text).map_err(|e| e.to_string())

@@ -8,7 +8,7 @@ use std::time::Instant;
 use nffrt::image::Region;
 use nffrt::load::load_bytes;
 use nffrt::math::Vec3;
-use nffrt::nff::{Format, Limits};
+use nffrt::nff::{Format, Limits, MAX_RESOLUTION};
 use nffrt::render::{RenderOptions, Sampling, Stats};
 use nffrt::scene::{Dialect, Light};
 use nffrt::PreparedScene;
@@ -87,6 +87,22 @@ pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<std::borrow::Cow<'
     ))
 }
 
+/// The image size `nffrt render --width/--height` gives: the file's, or one side
+/// given and the other following the file's aspect ratio (rounded, 1 to
+/// `MAX_RESOLUTION`), or both given.
+fn image_size(width: Option<u32>, height: Option<u32>, scene_w: u32, scene_h: u32) -> (u32, u32) {
+    let follow = |given: u32, side: u32, other: u32| {
+        let (given, side, other) = (given as u64, side.max(1) as u64, other as u64);
+        ((given * other + side / 2) / side).clamp(1, MAX_RESOLUTION as u64) as u32
+    };
+    match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, follow(w, scene_w, scene_h)),
+        (None, Some(h)) => (follow(h, scene_h, scene_w), h),
+        (None, None) => (scene_w, scene_h),
+    }
+}
+
 fn vec3(v: Vec3) -> (f32, f32, f32) {
     (v.x, v.y, v.z)
 }
@@ -128,9 +144,10 @@ impl PyScene {
             (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
             _ => Sampling::PixelCenters,
         };
+        let (width, height) = image_size(width, height, scene.view.width, scene.view.height);
         Ok(RenderOptions {
-            width: width.unwrap_or(scene.view.width),
-            height: height.unwrap_or(scene.view.height),
+            width,
+            height,
             max_depth,
             sampling,
             aperture,
@@ -171,7 +188,7 @@ impl PyScene {
     /// row first: linear RGB, unclamped, the values `nffrt render -o X.pfm` writes.
     ///
     /// `width`, `height` and `spp` default to the file's (P3F `spp`; NFF: one ray
-    /// through each pixel centre); `spp > 1` is stratified jittered sampling, `spd`
+    /// through each pixel centre; one side given, the other keeps the file's aspect); `spp > 1` is stratified jittered sampling, `spd`
     /// the SPD's corner protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
     /// only that crop (half-open), with exactly the full render's pixels. `threads`
     /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`

@@ -14,6 +14,8 @@ from helpers import read_pfm, run_cli, shared
 CASES = [
     # (scene under ../shared/scenes, render() arguments, the same as flags)
     ("spd/mount.nff", {}, []),
+    # One side given: the other follows the file's aspect ratio.
+    ("p3f/2025/balls_low.p3f", {"width": 100, "spp": 1}, ["--width", "100", "--spp", "1"]),
     ("spd/gears.nff", {"width": 96, "height": 72, "spp": 4}, ["--width", "96", "--height", "72", "--spp", "4"]),
     ("spd/balls.nff", {"width": 64, "height": 64, "spd": True}, ["--width", "64", "--height", "64", "--spd"]),
     ("spd/teapot.nff", {"width": 80, "height": 60, "max_depth": 2}, ["--width", "80", "--height", "60", "--max-depth", "2"]),
