@@ -86,8 +86,10 @@ class Scene:
         focal: Optional[float] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
-        linear RGB, the values ``nffrt render -o X.pfm`` writes. Releases the GIL;
-        Ctrl-C raises ``KeyboardInterrupt``."""
+        linear RGB, the values ``nffrt render -o X.pfm`` writes. ``width``,
+        ``height`` and ``spp`` default to the file's (one side given, the other
+        keeps its aspect); ``region=(x0, y0, x1, y1)`` renders that crop only.
+        Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
     @property
     def last_stats(self) -> Optional[Stats]:
         """Ray counts and time of the last finished render."""

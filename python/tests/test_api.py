@@ -241,3 +241,28 @@ def test_merge_names_overlaps_gaps_and_misfits() -> None:
         nffrt.merge([((2, 0, 2, 3), z(3, 0))])
     with pytest.raises(ValueError, match="no pieces"):
         nffrt.merge([])
+
+
+def test_type_stubs_name_what_the_module_has() -> None:
+    """_nffrt.pyi and the compiled module agree on functions, classes and Scene's
+    members, and on each function's parameter names."""
+    import ast
+    import inspect
+
+    from nffrt import _nffrt
+
+    stub = ast.parse((Path(nffrt.__file__).parent / "_nffrt.pyi").read_text())
+    functions = {n.name: n for n in stub.body if isinstance(n, ast.FunctionDef)}
+    classes = {n.name: n for n in stub.body if isinstance(n, ast.ClassDef)}
+    public = {n for n in dir(_nffrt) if not n.startswith("_")}
+    assert public == set(functions) | {"Scene", "SceneError"}
+    assert {"Scene", "SceneError"} <= set(classes)
+    for name, node in functions.items():
+        params = list(inspect.signature(getattr(_nffrt, name)).parameters)
+        assert params == [a.arg for a in node.args.args], name
+    members = {n.name for n in classes["Scene"].body if isinstance(n, ast.FunctionDef)}
+    runtime = {n for n in dir(_nffrt.Scene) if not n.startswith("__")}
+    assert members == runtime
+    params = list(inspect.signature(_nffrt.Scene.render).parameters)
+    stub_render = next(n for n in classes["Scene"].body if isinstance(n, ast.FunctionDef) and n.name == "render")
+    assert params == [a.arg for a in stub_render.args.args]
