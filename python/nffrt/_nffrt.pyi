@@ -90,6 +90,8 @@ class Scene:
         ``height`` and ``spp`` default to the file's (one side given, the other
         keeps its aspect); ``region=(x0, y0, x1, y1)`` renders that crop only.
         Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
+    def image_size(self, width: Optional[int] = None, height: Optional[int] = None) -> Tuple[int, int]:
+        """The ``(width, height)`` ``render`` makes with these arguments."""
     @property
     def last_stats(self) -> Optional[Stats]:
         """Ray counts and time of the last finished render."""

@@ -56,10 +56,11 @@ def _prepared(key: tuple, scene: SceneSource, format: Optional[str]) -> Scene:
     return prepared
 
 
-def _size(key: tuple, scene: SceneSource, format: Optional[str]) -> tuple[int, int]:
-    """Task: the scene file's resolution."""
-    s = _prepared(key, scene, format)
-    return s.width, s.height
+def _size(
+    key: tuple, scene: SceneSource, format: Optional[str], width: Optional[int], height: Optional[int]
+) -> tuple[int, int]:
+    """Task: the image size ``render(width=width, height=height)`` makes."""
+    return _prepared(key, scene, format).image_size(width, height)
 
 
 def _render_tile(
@@ -98,12 +99,9 @@ def render(
         stat = os.stat(path)
         key = ("path", path, format, stat.st_mtime_ns, stat.st_size)
         source = path
-    width = options.get("width")
-    height = options.get("height")
+    width, height = options.get("width"), options.get("height")
     if width is None or height is None:
-        w, h = client.submit(_size, key, source, format, pure=False).result()
-        width = w if width is None else width
-        height = h if height is None else height
+        width, height = client.submit(_size, key, source, format, width, height, pure=False).result()
     if tiles is None:
         threads = sum(client.nthreads().values()) or 1
         tiles = min(4 * threads, int(height))

@@ -1,6 +1,7 @@
 //! `nffrt.Scene`: a loaded scene with its BVH (one `nffrt::PreparedScene`), its
 //! description as plain Python values, and `render`, which releases the GIL.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -75,12 +76,15 @@ pub fn parse(py: Python<'_>, text: &[u8], format: Format) -> PyResult<PyScene> {
 }
 
 /// The bytes of a `str` (UTF-8) or `bytes` object.
-pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<std::borrow::Cow<'a, [u8]>> {
+pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [u8]>> {
     if let Ok(s) = text.cast::<PyString>() {
-        return Ok(std::borrow::Cow::Owned(s.to_cow()?.as_bytes().to_vec()));
+        return Ok(match s.to_cow()? {
+            Cow::Borrowed(s) => Cow::Borrowed(s.as_bytes()),
+            Cow::Owned(s) => Cow::Owned(s.into_bytes()),
+        });
     }
     if let Ok(b) = text.cast::<PyBytes>() {
-        return Ok(std::borrow::Cow::Borrowed(b.as_bytes()));
+        return Ok(Cow::Borrowed(b.as_bytes()));
     }
     Err(pyo3::exceptions::PyTypeError::new_err(
         "scene text must be str or bytes",
@@ -188,8 +192,9 @@ impl PyScene {
     /// row first: linear RGB, unclamped, the values `nffrt render -o X.pfm` writes.
     ///
     /// `width`, `height` and `spp` default to the file's (P3F `spp`; NFF: one ray
-    /// through each pixel centre; one side given, the other keeps the file's aspect); `spp > 1` is stratified jittered sampling, `spd`
-    /// the SPD's corner protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
+    /// through each pixel centre); one side given, the other keeps the file's
+    /// aspect. `spp > 1` is stratified jittered sampling, `spd` the SPD's corner
+    /// protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
     /// only that crop (half-open), with exactly the full render's pixels. `threads`
     /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`
     /// (focal distance over |from - at|) replace the scene's lens. The GIL is
@@ -212,6 +217,14 @@ impl PyScene {
         let opts = self.options(width, height, spp, max_depth, spd, aperture, focal)?;
         let image = self.render_image(py, &opts, region, threads)?;
         to_array(py, &image)
+    }
+
+    /// The `(width, height)` that `render(width=..., height=...)` makes: the file's
+    /// size, or one side given and the other following the file's aspect ratio.
+    #[pyo3(signature = (width=None, height=None))]
+    fn image_size(&self, width: Option<u32>, height: Option<u32>) -> (u32, u32) {
+        let view = &self.prepared.scene().view;
+        image_size(width, height, view.width, view.height)
     }
 
     /// The ray counts of the last render that finished (`None` before any):

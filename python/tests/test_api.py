@@ -158,6 +158,15 @@ def test_region_is_the_full_renders_crop_and_threads_do_not_matter() -> None:
     assert np.array_equal(scene.render(region=nffrt.Region(0, 0, 23, 17)), scene.render())
 
 
+def test_one_side_given_keeps_the_files_aspect() -> None:
+    scene = nffrt.parse(SMALL)  # 23 x 17
+    assert scene.image_size() == (23, 17)
+    assert scene.image_size(46) == (46, 34)
+    assert scene.image_size(height=4) == (5, 4)  # 23 * 4 / 17 = 5.4
+    assert scene.image_size(10, 10) == (10, 10)
+    assert scene.render(width=46).shape == (34, 46, 3)
+
+
 def test_spd_protocol_and_spp_are_exclusive() -> None:
     scene = nffrt.parse(SMALL)
     scene.render(spd=True)
