@@ -92,6 +92,25 @@ impl PreparedScene {
     }
 }
 
+/// The image size of a render asked for with `width` and/or `height` of a scene
+/// whose file says `scene_w` x `scene_h`: the file's size, or both sides as given,
+/// or one side given and the other following the file's aspect ratio (rounded to
+/// the nearest pixel, 1 to [`MAX_RESOLUTION`]). `nffrt render --width/--height`
+/// and the Python bindings size their images by it.
+pub fn image_size(width: Option<u32>, height: Option<u32>, scene_w: u32, scene_h: u32) -> (u32, u32) {
+    // `given` pixels along a side of `side` scene pixels: the other side, `other` long.
+    let follow = |given: u32, side: u32, other: u32| {
+        let (given, side, other) = (given as u64, side.max(1) as u64, other as u64);
+        ((given * other + side / 2) / side).clamp(1, MAX_RESOLUTION as u64) as u32
+    };
+    match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, follow(w, scene_w, scene_h)),
+        (None, Some(h)) => (follow(h, scene_h, scene_w), h),
+        (None, None) => (scene_w, scene_h),
+    }
+}
+
 /// Checks that `opts` can be rendered over `region` within this module's limits:
 /// a size of 1 to [`MAX_RESOLUTION`] per side, a depth of 1 to [`MAX_DEPTH`], 1 to
 /// [`MAX_SPP`] samples, a finite lens (aperture at least 0, focal distance above
@@ -300,6 +319,18 @@ mod tests {
         };
         let e = p.render(&huge).unwrap_err();
         assert!(e.to_string().contains("more than the limit"), "{e}");
+    }
+
+    #[test]
+    fn one_side_given_keeps_the_aspect_ratio() {
+        assert_eq!(image_size(None, None, 640, 480), (640, 480));
+        assert_eq!(image_size(Some(320), None, 640, 480), (320, 240));
+        assert_eq!(image_size(None, Some(100), 640, 480), (133, 100)); // 133.3
+        assert_eq!(image_size(Some(5), None, 23, 17), (5, 4)); // 3.7
+        assert_eq!(image_size(Some(7), Some(9), 640, 480), (7, 9));
+        assert_eq!(image_size(Some(1), None, 32768, 1), (1, 1)); // never 0
+        assert_eq!(image_size(None, Some(32768), 1, 2), (16384, 32768));
+        assert_eq!(image_size(Some(32768), None, 1, 2), (32768, 32768)); // capped
     }
 
     /// Cancels once `after` rows are done.

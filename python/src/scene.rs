@@ -9,7 +9,8 @@ use std::time::Instant;
 use nffrt::image::Region;
 use nffrt::load::load_bytes;
 use nffrt::math::Vec3;
-use nffrt::nff::{Format, Limits, MAX_RESOLUTION};
+use nffrt::nff::{Format, Limits};
+use nffrt::prepared::image_size;
 use nffrt::render::{RenderOptions, Sampling, Stats};
 use nffrt::scene::{Dialect, Light};
 use nffrt::PreparedScene;
@@ -89,22 +90,6 @@ pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [u8]>> {
     Err(pyo3::exceptions::PyTypeError::new_err(
         "scene text must be str or bytes",
     ))
-}
-
-/// The image size `nffrt render --width/--height` gives: the file's, or one side
-/// given and the other following the file's aspect ratio (rounded, 1 to
-/// `MAX_RESOLUTION`), or both given.
-fn image_size(width: Option<u32>, height: Option<u32>, scene_w: u32, scene_h: u32) -> (u32, u32) {
-    let follow = |given: u32, side: u32, other: u32| {
-        let (given, side, other) = (given as u64, side.max(1) as u64, other as u64);
-        ((given * other + side / 2) / side).clamp(1, MAX_RESOLUTION as u64) as u32
-    };
-    match (width, height) {
-        (Some(w), Some(h)) => (w, h),
-        (Some(w), None) => (w, follow(w, scene_w, scene_h)),
-        (None, Some(h)) => (follow(h, scene_h, scene_w), h),
-        (None, None) => (scene_w, scene_h),
-    }
 }
 
 fn vec3(v: Vec3) -> (f32, f32, f32) {
