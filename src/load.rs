@@ -8,13 +8,14 @@
 //! ```
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::image::skybox::{CubeFace, FaceImage, Skybox};
-use crate::nff::{parse_format, Format, Limits, ParseError};
+use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
 use crate::scene::Scene;
 
 /// How to load a scene.
@@ -53,6 +54,9 @@ pub enum LoadError {
         /// What went wrong, and which line of the scene named it.
         message: String,
     },
+    /// The caller's cancellation flag was raised ([`load_bytes_cancellable`]).
+    #[error("loading cancelled")]
+    Cancelled,
 }
 
 /// Reads, parses and resolves the scene file at `path`.
@@ -76,10 +80,33 @@ pub fn load_bytes(
     dir: Option<&Path>,
     limits: &Limits,
 ) -> Result<Scene, LoadError> {
-    let mut scene = parse_format(bytes, format, limits).map_err(|error| LoadError::Parse {
-        name: name.to_string(),
-        error,
+    static NEVER: AtomicBool = AtomicBool::new(false);
+    load_bytes_cancellable(bytes, format, name, dir, limits, &NEVER)
+}
+
+/// [`load_bytes`] that stops with [`LoadError::Cancelled`] soon after `cancel` is
+/// raised: the parser polls it between entities, and no skybox face is read once it
+/// is up (for a viewer that reloads a file being edited).
+pub fn load_bytes_cancellable(
+    bytes: &[u8],
+    format: Format,
+    name: &str,
+    dir: Option<&Path>,
+    limits: &Limits,
+    cancel: &AtomicBool,
+) -> Result<Scene, LoadError> {
+    let mut scene = parse_format_cancellable(bytes, format, limits, cancel).map_err(|error| {
+        if error.kind == ParseErrorKind::Cancelled {
+            return LoadError::Cancelled;
+        }
+        LoadError::Parse {
+            name: name.to_string(),
+            error,
+        }
     })?;
+    if cancel.load(Ordering::Relaxed) {
+        return Err(LoadError::Cancelled);
+    }
     resolve(&mut scene, name, dir.unwrap_or(Path::new("")))?;
     Ok(scene)
 }
@@ -151,4 +178,29 @@ fn load_face(folder: &Path, face: CubeFace, context: &str) -> Result<FaceImage, 
         height: rgb.height(),
         rgb: rgb.into_raw(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_raised_flag_cancels_loading_and_a_lowered_one_changes_nothing() {
+        let text = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n".to_string()
+            + &"s 0 0 0 1\n".repeat(2000);
+        let limits = Limits::default();
+        for format in [Format::Nff, Format::P3f] {
+            let up = AtomicBool::new(true);
+            let e = load_bytes_cancellable(text.as_bytes(), format, "x", None, &limits, &up).unwrap_err();
+            assert!(matches!(e, LoadError::Cancelled), "{e}");
+            let down = AtomicBool::new(false);
+            let scene = load_bytes_cancellable(text.as_bytes(), format, "x", None, &limits, &down).unwrap();
+            assert_eq!(scene.spheres.len(), 2000);
+        }
+        // A parse error stays a parse error, located.
+        let down = AtomicBool::new(false);
+        let e =
+            load_bytes_cancellable(b"s 0 0 0 1\nq\n", Format::Nff, "x", None, &limits, &down).unwrap_err();
+        assert_eq!(e.to_string(), "x:2:1: unknown keyword \"q\"");
+    }
 }

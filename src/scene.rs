@@ -14,7 +14,7 @@ use crate::math::{Aabb, Vec3};
 
 /// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
 /// `f` / `mat` with its specular colour.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     /// Base (diffuse) colour (linear RGB).
     pub color: Vec3,
@@ -58,14 +58,15 @@ pub struct Light {
     pub area: Option<LightArea>,
 }
 
-/// The extent of an area light: the points `position + u edge1 + v edge2`, `u` and
-/// `v` in [0, 1].
+/// The extent of an area light: the parallelogram with corners `position`, `v1` and
+/// `v2` (P3F `light quad`'s three points): its points are
+/// `position + u (v1 - position) + v (v2 - position)`, `u` and `v` in [0, 1].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightArea {
-    /// First edge, from the corner.
-    pub edge1: Vec3,
-    /// Second edge, from the corner.
-    pub edge2: Vec3,
+    /// The corner at the end of the first edge from `position`.
+    pub v1: Vec3,
+    /// The corner at the end of the second edge from `position`.
+    pub v2: Vec3,
     /// Points per side of the regular grid sampled with one eye sample per pixel.
     pub grid: u32,
 }

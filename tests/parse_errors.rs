@@ -53,7 +53,8 @@ fn check(path: &Path) -> Result<(), String> {
     let want = expectation(path, &bytes)?;
 
     // The library: an error (not a panic) at the promised place.
-    let err = match nffrt::nff::parse_bytes(&bytes) {
+    let format = nffrt::nff::Format::of_path(path);
+    let err = match nffrt::nff::parse_format(&bytes, format, &Default::default()) {
         Ok(scene) => {
             return Err(format!(
                 "{file}: the library accepted it ({} primitives)",

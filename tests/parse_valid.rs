@@ -16,8 +16,17 @@ use nffrt::scene::Material;
 use nffrt::Scene;
 
 /// Counts that must be 0 unless the header says otherwise.
-const ZERO_BY_DEFAULT: [&str; 7] = [
-    "spheres", "polygons", "patches", "cones", "planes", "boxes", "lights",
+const ZERO_BY_DEFAULT: [&str; 10] = [
+    "spheres",
+    "polygons",
+    "patches",
+    "cones",
+    "planes",
+    "boxes",
+    "lights",
+    "area_lights",
+    "meshes",
+    "mesh_triangles",
 ];
 
 fn check(path: &Path) -> Result<(), String> {

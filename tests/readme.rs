@@ -1,6 +1,6 @@
-//! The README against the tool: every flag the commands accept is documented, the
-//! figures it quotes are the ones the tool reports, and the quick start shows the
-//! picture a user should see first.
+//! The README and the pages of `docs/` it links against the tool: every flag the
+//! commands accept is documented, the figures they quote are the ones the tool
+//! reports, and the quick start shows the picture a user should see first.
 
 mod common;
 
@@ -10,6 +10,22 @@ use common::nffrt;
 
 fn readme() -> String {
     std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap()
+}
+
+/// The README and every page of `docs/`, one text.
+fn documentation() -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut pages: Vec<_> = std::fs::read_dir(root.join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    pages.sort();
+    let mut text = readme();
+    for page in pages {
+        text += &std::fs::read_to_string(page).unwrap();
+    }
+    text
 }
 
 /// The options of `nffrt SUB --help`: each line's spellings (`-o`, `--output`).
@@ -37,8 +53,8 @@ fn options(sub: &str) -> Vec<Vec<String>> {
 /// count for `--rays-only`).
 #[test]
 fn every_flag_is_in_the_readme() {
-    let text = readme();
-    for sub in ["info", "render", "merge", "gen", "bench"] {
+    let text = documentation();
+    for sub in ["info", "render", "merge", "gen", "bench", "view"] {
         let options = options(sub);
         assert!(options.len() >= 2, "{sub}: {options:?}");
         for names in options {
@@ -47,12 +63,12 @@ fn every_flag_is_in_the_readme() {
                     .iter()
                     .any(|end| text.contains(&format!("{flag}{end}")))
             });
-            assert!(documented, "nffrt {sub} {names:?} is not in the README");
+            assert!(documented, "nffrt {sub} {names:?} is not in the README or docs/");
         }
     }
 }
 
-/// Every key `--stats-json` writes is named in the README.
+/// Every key `--stats-json` writes is named in the README or docs/.
 #[test]
 fn every_stats_key_is_in_the_readme() {
     let dir = common::scratch_dir("readme", "stats");
@@ -72,11 +88,11 @@ fn every_stats_key_is_in_the_readme() {
     let out = nffrt(&args, b"");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let text = readme();
+    let text = documentation();
     for key in json.as_object().unwrap().keys() {
         assert!(
             text.contains(&format!("`{key}`")),
-            "--stats-json key {key} is not in the README"
+            "--stats-json key {key} is not in the README or docs/"
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -102,7 +118,7 @@ fn memory_table_counts_are_the_tools() {
         return;
     };
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
-    let text = readme();
+    let text = documentation();
     let rows: Vec<Vec<&str>> = text
         .lines()
         .filter(|l| l.starts_with("| `p3d/") || l.starts_with("| `spd/") || l.starts_with("| `nffrt gen"))

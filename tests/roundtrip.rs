@@ -1,5 +1,6 @@
-//! Writing a parsed scene with `write_nff` and parsing the text again gives the same scene
-//! (up to source lines, warnings and material numbering; see `common::compare`).
+//! Writing a parsed scene with `write_scene` (NFF or P3F, its own language) and parsing
+//! the text again gives the same scene (up to source lines, warnings, material
+//! numbering and the P3F dialect; see `common::compare`).
 
 mod common;
 
@@ -7,16 +8,18 @@ use std::path::Path;
 
 use common::compare::same_scene;
 use common::{data_dir, name, nff_files, shared_scenes};
-use nffrt::nff::{parse_bytes, write_nff};
+use nffrt::nff::{parse_format, write_scene, Format};
 
 /// Parses `path`, writes it, parses the output; describes the first difference.
 fn round_trip(path: &Path) -> Result<(), String> {
     let file = name(path);
     let bytes = std::fs::read(path).map_err(|e| format!("{file}: {e}"))?;
-    let first = parse_bytes(&bytes).map_err(|e| format!("{file}: {e}"))?;
+    let format = Format::of_path(path);
+    let first = parse_format(&bytes, format, &Default::default()).map_err(|e| format!("{file}: {e}"))?;
     let mut text = Vec::new();
-    write_nff(&first, &mut text).map_err(|e| format!("{file}: writing: {e}"))?;
-    let second = parse_bytes(&text).map_err(|e| format!("{file}: written text does not parse: {e}"))?;
+    write_scene(&first, &mut text).map_err(|e| format!("{file}: writing: {e}"))?;
+    let second = parse_format(&text, format, &Default::default())
+        .map_err(|e| format!("{file}: written text does not parse: {e}"))?;
     // The writer spells out the camera and a material before each object, and skipped
     // geometry is gone: the written text may repeat a warning (a tolerated cone, say) but
     // must not earn a new one.

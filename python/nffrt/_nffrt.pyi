@@ -66,8 +66,8 @@ Camera = TypedDict(
 class Light(TypedDict, total=False):
     position: Vec3
     color: Optional[Vec3]
-    edge1: Vec3
-    edge2: Vec3
+    v1: Vec3
+    v2: Vec3
     grid: int
 
 class Scene:

@@ -53,6 +53,7 @@ pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError) -> PyErr {
         LoadError::Io { path, message } | LoadError::Asset { path, message } => {
             PyOSError::new_err(format!("{}: {message}", path.display()))
         }
+        LoadError::Cancelled => PyKeyboardInterrupt::new_err("loading was cancelled"),
     }
 }
 

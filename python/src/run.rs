@@ -25,6 +25,13 @@ pub const MAX_THREADS: usize = 1024;
 /// The renderer's observer: cancelled once a signal handler raised.
 pub struct Cancel(AtomicBool);
 
+impl Cancel {
+    /// The flag itself, for the loader's cancellable parse.
+    pub fn flag(&self) -> &AtomicBool {
+        &self.0
+    }
+}
+
 impl Observer for Cancel {
     fn cancelled(&self) -> bool {
         self.0.load(Ordering::Relaxed)

@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use nffrt::image::Region;
-use nffrt::load::load_bytes;
+use nffrt::load::load_bytes_cancellable;
 use nffrt::math::Vec3;
 use nffrt::nff::{Format, Limits};
 use nffrt::prepared::image_size;
@@ -50,16 +50,18 @@ enum LoadFailure {
     Load(nffrt::load::LoadError),
 }
 
-/// Reads, parses and prepares the scene file at `path`, without the GIL.
+/// Reads, parses and prepares the scene file at `path`, without the GIL; Ctrl-C
+/// stops the parse.
 pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<PyScene> {
     let format = format.unwrap_or_else(|| Format::of_path(&path));
-    let prepared = py.detach(|| {
+    let prepared = without_gil(py, None, |cancel| {
         let bytes = std::fs::read(&path).map_err(LoadFailure::Read)?;
         let name = path.display().to_string();
-        load_bytes(&bytes, format, &name, path.parent(), &Limits::default())
+        let limits = Limits::default();
+        load_bytes_cancellable(&bytes, format, &name, path.parent(), &limits, cancel.flag())
             .map(PreparedScene::new)
             .map_err(LoadFailure::Load)
-    });
+    })?;
     let prepared = prepared.map_err(|e| match e {
         LoadFailure::Read(e) => io_error(&path, &e),
         LoadFailure::Load(e) => load_error(py, Some(&path), e),
@@ -68,10 +70,12 @@ pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<P
 }
 
 /// Parses and prepares scene text, without the GIL (files it names are found from
-/// the current directory).
+/// the current directory); Ctrl-C stops the parse.
 pub fn parse(py: Python<'_>, text: &[u8], format: Format) -> PyResult<PyScene> {
-    let prepared =
-        py.detach(|| load_bytes(text, format, "<string>", None, &Limits::default()).map(PreparedScene::new));
+    let prepared = without_gil(py, None, |cancel| {
+        let limits = Limits::default();
+        load_bytes_cancellable(text, format, "<string>", None, &limits, cancel.flag()).map(PreparedScene::new)
+    })?;
     let prepared = prepared.map_err(|e| load_error(py, None, e))?;
     Ok(PyScene::new(prepared, None, format))
 }
@@ -320,8 +324,9 @@ impl PyScene {
     }
 
     /// The lights in file order, each a dict: `position` (an area light's corner),
-    /// `color` (`None`: the SPD's default intensity) and, for an area light,
-    /// `edge1`, `edge2` and `grid`.
+    /// `color` (`None`: the SPD's default intensity) and, for an area light, `v1`
+    /// and `v2` (the corners at the ends of its two edges from `position`) and
+    /// `grid`.
     #[getter]
     fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let light = |l: &Light| -> PyResult<Bound<'py, PyDict>> {
@@ -329,8 +334,8 @@ impl PyScene {
             d.set_item("position", vec3(l.position))?;
             d.set_item("color", l.color.map(vec3))?;
             if let Some(a) = &l.area {
-                d.set_item("edge1", vec3(a.edge1))?;
-                d.set_item("edge2", vec3(a.edge2))?;
+                d.set_item("v1", vec3(a.v1))?;
+                d.set_item("v2", vec3(a.v2))?;
                 d.set_item("grid", a.grid)?;
             }
             Ok(d)

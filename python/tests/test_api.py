@@ -90,7 +90,7 @@ def test_p3f_scene_loads_by_extension(rel: str, dialect: str) -> None:
 
 def test_p3f_area_light_has_its_extent() -> None:
     scene = nffrt.load(shared("p3f", "2019", "balls_area_low.p3f"))
-    area = [l for l in scene.lights if "edge1" in l]
+    area = [l for l in scene.lights if "v1" in l]
     assert area, scene.lights
     assert all(l["grid"] >= 1 for l in area)
 

@@ -50,7 +50,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true,
           value_parser = whole_number::<u64>(0, u64::MAX))]
     pub seed: u64,
-    /// Resource limits (see "Limits" in the README).
+    /// Resource limits (see "Limits" in docs/command-line.md); the primary and random ray sets
+    /// count as pixels.
     #[command(flatten)]
     pub limits: RenderLimitArgs,
 }

@@ -10,6 +10,7 @@ use super::load::{load_scene_with, print_warnings, Fingerprint};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
+use nffrt::scene::{Accel, Dialect};
 
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
@@ -53,6 +54,23 @@ fn bvh_info(scene: &nffrt::Scene) -> BvhInfo {
 
 #[derive(Serialize)]
 struct InfoJson {
+    /// `nff`, `p3f-2019` or `p3f-2025`.
+    dialect: &'static str,
+    /// P3F `accel` as written, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    accel: Option<Accel>,
+    /// P3F `spp`, if given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    spp: Option<u32>,
+    /// The skybox folder as written, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    skybox: Option<String>,
+    area_lights: usize,
+    meshes: usize,
+    mesh_triangles: usize,
+    mesh_vertices: usize,
+    aperture: f32,
+    focal: f32,
     spheres: usize,
     polygons: usize,
     patches: usize,
@@ -82,6 +100,16 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let bvh = args.bvh.then(|| bvh_info(s));
     if args.json {
         let j = InfoJson {
+            dialect: dialect_name(s.dialect),
+            accel: s.accel,
+            spp: s.spp,
+            skybox: s.environment.as_ref().map(|e| e.folder.clone()),
+            area_lights: area_lights(s),
+            meshes: s.meshes.len(),
+            mesh_triangles: s.mesh_triangles.len(),
+            mesh_vertices: s.mesh_vertices.len(),
+            aperture: s.view.aperture,
+            focal: s.view.focal,
             spheres: s.spheres.len(),
             polygons: s.polygons.len(),
             patches: s.patches.len(),
@@ -119,7 +147,40 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         v.up.z,
         v.angle
     );
-    outln!("lights      {}", s.lights.len());
+    outln!("format      {}", dialect_name(s.dialect));
+    if let Some(a) = s.accel {
+        outln!(
+            "accel       {} (as the file asks; nffrt builds its BVH)",
+            accel_name(a)
+        );
+    }
+    if let Some(n) = s.spp {
+        outln!(
+            "spp         {n}{}",
+            if n == 0 {
+                " (one sample at each pixel centre)"
+            } else {
+                ""
+            }
+        );
+    }
+    if v.aperture > 0.0 {
+        outln!(
+            "lens        aperture {} pixels, focal {} x the view distance",
+            v.aperture,
+            v.focal
+        );
+    }
+    if let Some(e) = &s.environment {
+        outln!("skybox      {} (six faces)", e.folder);
+    }
+    let areas = area_lights(s);
+    outln!(
+        "lights      {} ({} point, {} area)",
+        s.lights.len(),
+        s.lights.len() - areas,
+        areas
+    );
     outln!("materials   {}", s.materials.len());
     outln!("primitives  {}", s.primitive_count());
     for (name, n) in [
@@ -134,6 +195,15 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             outln!("  {name:<10}{n}");
         }
     }
+    if !s.meshes.is_empty() {
+        outln!(
+            "  {:<10}{} triangles in {} meshes ({} vertices)",
+            "meshes",
+            s.mesh_triangles.len(),
+            s.meshes.len(),
+            s.mesh_vertices.len()
+        );
+    }
     match bounds {
         Some((lo, hi)) => outln!("bounds      {lo:?} .. {hi:?}"),
         None => outln!("bounds      (no bounded primitive)"),
@@ -145,6 +215,27 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     print_warnings(&loaded, 20);
     Ok(())
+}
+
+/// The scene's language as `info` names it.
+fn dialect_name(d: Dialect) -> &'static str {
+    match d {
+        Dialect::Nff => "nff",
+        Dialect::P3f2019 => "p3f-2019",
+        Dialect::P3f2025 => "p3f-2025",
+    }
+}
+
+fn accel_name(a: Accel) -> &'static str {
+    match a {
+        Accel::None => "none",
+        Accel::Grid => "grid",
+        Accel::Bvh => "bvh",
+    }
+}
+
+fn area_lights(s: &nffrt::Scene) -> usize {
+    s.lights.iter().filter(|l| l.area.is_some()).count()
 }
 
 fn print_bvh(b: &BvhInfo) {

@@ -1,7 +1,7 @@
 //! Resource limits on the command line: how large a scene file, how many primitives,
 //! vertices and lights, and how many pixels one run may take on. Everything is
 //! checked before the memory it guards is allocated; each limit has a flag to raise
-//! it (see "Limits" in the README).
+//! it (see "Limits" in `docs/command-line.md`).
 
 use clap::Args;
 

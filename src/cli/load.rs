@@ -2,6 +2,7 @@
 
 use std::io::Read;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::limits::SceneLimitArgs;
@@ -9,7 +10,7 @@ use super::output::brief;
 use super::CliError;
 use nffrt::accel::Bvh;
 use nffrt::geometry::build_geometry;
-use nffrt::load::{load_bytes, LoadError};
+use nffrt::load::{load_bytes_cancellable, LoadError};
 use nffrt::nff::Format;
 use nffrt::Scene;
 
@@ -46,6 +47,18 @@ pub fn load_scene_with(
     limits: &SceneLimitArgs,
     fingerprint: Fingerprint,
 ) -> Result<LoadedScene, CliError> {
+    static NEVER: AtomicBool = AtomicBool::new(false);
+    load_scene_cancellable(path, limits, fingerprint, &NEVER)
+}
+
+/// [`load_scene_with`] that gives up soon after `cancel` is raised (an I/O error
+/// saying `loading cancelled`).
+pub fn load_scene_cancellable(
+    path: &Path,
+    limits: &SceneLimitArgs,
+    fingerprint: Fingerprint,
+    cancel: &AtomicBool,
+) -> Result<LoadedScene, CliError> {
     let name = if path == Path::new("-") {
         "<stdin>".to_string()
     } else {
@@ -59,10 +72,15 @@ pub fn load_scene_with(
         .map(Format::from)
         .unwrap_or_else(|| Format::of_path(path));
     let dir = if stdin { None } else { path.parent() };
-    let scene = load_bytes(&bytes, format, &name, dir, &limits.parse_limits()).map_err(|e| match e {
-        LoadError::Parse { .. } => CliError::scene(e.to_string()),
-        LoadError::Io { .. } | LoadError::Asset { .. } => CliError::io(e.to_string()),
-    })?;
+    let scene =
+        load_bytes_cancellable(&bytes, format, &name, dir, &limits.parse_limits(), cancel).map_err(|e| {
+            match e {
+                LoadError::Parse { .. } => CliError::scene(e.to_string()),
+                LoadError::Io { .. } | LoadError::Asset { .. } | LoadError::Cancelled => {
+                    CliError::io(e.to_string())
+                }
+            }
+        })?;
     let parse_s = t0.elapsed().as_secs_f64();
     let fingerprint = (fingerprint == Fingerprint::Scene).then(|| scene_fingerprint(&bytes, &scene));
     Ok(LoadedScene {

@@ -27,10 +27,12 @@ mod progress;
 mod render;
 mod stats;
 mod values;
+#[cfg(feature = "cli")]
+mod view;
 
 use clap::{Parser, Subcommand};
 
-/// Exit codes, documented in the README.
+/// Exit codes, documented in `docs/command-line.md`.
 pub mod exit {
     /// Success.
     pub const OK: i32 = 0;
@@ -82,7 +84,7 @@ impl CliError {
 #[command(name = "nffrt", version, about, long_about = None, propagate_version = true)]
 #[command(
     after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png"
+Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png\n  nffrt view scene.nff"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -103,6 +105,10 @@ enum Command {
     /// primary, random and file-supplied rays (no shading), and closest hits in
     /// packets of 8 consecutive rays.
     Bench(bench::BenchArgs),
+    /// Preview a scene live in the browser: progressive frames, an orbiting camera,
+    /// each pixel's ray tree; the file is watched and rendered again when it changes.
+    #[cfg(feature = "cli")]
+    View(view::ViewArgs),
 }
 
 /// Ends the program after a failed write to standard output (see `outln!`).
@@ -145,6 +151,8 @@ pub fn run() -> i32 {
         Command::Render(a) => render::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Bench(a) => bench::run(a),
+        #[cfg(feature = "cli")]
+        Command::View(a) => view::run(a),
     };
     match result {
         Ok(()) => exit::OK,

@@ -105,7 +105,7 @@ pub struct RenderArgs {
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
-    /// Resource limits (see "Limits" in the README).
+    /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: RenderLimitArgs,
 }

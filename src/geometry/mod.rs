@@ -86,7 +86,7 @@ pub enum Shape {
 }
 
 /// Which NFF entity a primitive came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum SourceKind {
     /// `s`
     Sphere,
@@ -164,7 +164,7 @@ impl Primitive {
     /// `OffsetRayOrigin` does; for a box also off every other face the bound cannot
     /// rule out (at an edge or a corner the point may lie on two or three faces, and
     /// a ray leaving from one must not start on another).
-    #[inline]
+    #[inline(always)]
     pub fn origin_offset(&self, s: &Surface, error: f32) -> Vec3 {
         match &self.shape {
             Shape::Box(b) => b.origin_offset(s.point, s.normal, error),

@@ -11,7 +11,8 @@
 use crate::math::Vec3;
 
 /// A face of the skybox cube, by the template's names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum CubeFace {
     /// Seen looking along −X.
     Right,
@@ -70,7 +71,7 @@ pub struct Skybox {
 }
 
 /// Where a direction meets the skybox.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SkyTexel {
     /// The face.
     pub face: CubeFace,

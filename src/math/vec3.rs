@@ -4,7 +4,7 @@ use super::{fast_max, fast_min};
 use std::ops::{Add, AddAssign, Div, Index, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// A three-component vector of `f32`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Vec3 {
     /// First component.
     pub x: f32,

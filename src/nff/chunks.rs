@@ -13,6 +13,8 @@
 //! after the first piece, objects before any `f` in the whole file, or counts past the
 //! limits — makes [`parse_in_parallel`] give up and leave the file to one pass.
 
+use std::sync::atomic::AtomicBool;
+
 use rayon::prelude::*;
 
 use super::keywords::starts_piece;
@@ -31,12 +33,12 @@ const SEARCH_LINES: usize = 1024;
 
 /// The scene of `src` parsed in pieces on the current rayon pool, or `None` when the
 /// file is small, the pool has one thread, or a piece could differ from one pass.
-pub(super) fn parse_in_parallel(src: &[u8], limits: &Limits) -> Option<Scene> {
+pub(super) fn parse_in_parallel(src: &[u8], limits: &Limits, cancel: Option<&AtomicBool>) -> Option<Scene> {
     let pieces = rayon::current_num_threads().min(src.len() / MIN_PIECE);
     if src.len() < PARALLEL_BYTES || pieces < 2 {
         return None;
     }
-    parse_pieces(src, limits, &piece_starts(src, pieces))
+    parse_pieces_with(src, limits, &piece_starts(src, pieces), cancel)
 }
 
 /// Up to `pieces - 1` places to split `src` at, each the byte offset of a line start
@@ -77,9 +79,21 @@ fn is_delimiter(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c | b'#')
 }
 
-/// `src` parsed in pieces starting at `starts` (see [`piece_starts`]) and joined, or
-/// `None` where the join could differ from one pass.
+/// [`parse_pieces_with`] that cannot be cancelled.
+#[cfg(test)]
 pub(super) fn parse_pieces(src: &[u8], limits: &Limits, starts: &[(usize, u32)]) -> Option<Scene> {
+    parse_pieces_with(src, limits, starts, None)
+}
+
+/// `src` parsed in pieces starting at `starts` (see [`piece_starts`]) and joined, or
+/// `None` where the join could differ from one pass, or once `cancel` is raised
+/// (each piece polls it).
+fn parse_pieces_with(
+    src: &[u8],
+    limits: &Limits,
+    starts: &[(usize, u32)],
+    cancel: Option<&AtomicBool>,
+) -> Option<Scene> {
     let bounds: Vec<(usize, usize, u32)> = std::iter::once((0, 1))
         .chain(starts.iter().copied())
         .zip(starts.iter().map(|&(at, _)| at).chain([src.len()]))
@@ -91,6 +105,7 @@ pub(super) fn parse_pieces(src: &[u8], limits: &Limits, starts: &[(usize, u32)])
         .map(|(i, &(start, end, line))| {
             let lexer = Lexer::starting_at(&src[..end], start, line);
             let mut p = Parser::new(lexer, Format::Nff, limits, i > 0);
+            p.cancel = cancel;
             p.run().ok().map(|()| p)
         })
         .collect::<Option<_>>()?;

@@ -138,6 +138,11 @@ impl Parser<'_> {
         self.admit_light(kw)?;
         let position = self.vec3("light position x y z")?;
         let color = self.optional_color("light colour r g b")?;
+        // P3F lights carry colours; one without is white.
+        let color = match self.format {
+            Format::P3f => Some(color.unwrap_or(Vec3::ONE)),
+            Format::Nff => color,
+        };
         self.scene.lights.push(Light::point(position, color));
         Ok(())
     }

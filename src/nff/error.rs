@@ -31,6 +31,9 @@ pub enum ParseErrorKind {
     /// Well-formed but unusable input (a degenerate camera, a resolution past the cap, ...).
     #[error("{0}")]
     Invalid(String),
+    /// The caller's cancellation flag was raised ([`crate::nff::parse_format_cancellable`]).
+    #[error("parsing cancelled")]
+    Cancelled,
 }
 
 impl ParseError {

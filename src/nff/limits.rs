@@ -9,7 +9,7 @@
 //! at the sizes the SPD suggests) and keep a render of a file within a few gigabytes.
 
 /// How much one file may describe. [`Limits::default`] gives the defaults documented
-/// in the README; `nffrt` raises them with `--max-primitives`, `--max-vertices` and
+/// in `docs/command-line.md`; `nffrt` raises them with `--max-primitives`, `--max-vertices` and
 /// `--max-lights`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {

@@ -30,7 +30,9 @@ mod writer;
 pub use error::{ParseError, ParseErrorKind};
 pub use lexer::{Lexer, Token};
 pub use limits::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES, MAX_WARNINGS};
-pub use parser::{parse, parse_bytes, parse_bytes_with, parse_format, MAX_RESOLUTION};
+pub use parser::{
+    parse, parse_bytes, parse_bytes_with, parse_format, parse_format_cancellable, MAX_RESOLUTION,
+};
 
 /// The language of a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -52,4 +54,4 @@ impl Format {
         }
     }
 }
-pub use writer::write_nff;
+pub use writer::{view_block, write_nff, write_p3f, write_scene};

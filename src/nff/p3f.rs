@@ -67,12 +67,13 @@ impl Parser<'_> {
         let u = axis.cross(normal).normalize();
         let v = normal.cross(u);
         let (edge1, edge2) = (u * w, v * h);
+        let corner = centre - edge1 * 0.5 - edge2 * 0.5;
         self.scene.lights.push(Light {
-            position: centre - edge1 * 0.5 - edge2 * 0.5,
+            position: corner,
             color,
             area: Some(LightArea {
-                edge1,
-                edge2,
+                v1: corner + edge1,
+                v2: corner + edge2,
                 grid: AREA_LIGHT_GRID,
             }),
         });
@@ -108,8 +109,7 @@ impl Parser<'_> {
                         format!("light quad grid {grid} is outside 1..=1024"),
                     ));
                 }
-                let (edge1, edge2) = (v1 - corner, v2 - corner);
-                if edge1.cross(edge2).length_squared() == 0.0 {
+                if (v1 - corner).cross(v2 - corner).length_squared() == 0.0 {
                     return Err(invalid(
                         loc(kw),
                         "light quad with no area (its corners are collinear)",
@@ -118,7 +118,7 @@ impl Parser<'_> {
                 self.scene.lights.push(Light {
                     position: corner,
                     color: Some(color),
-                    area: Some(LightArea { edge1, edge2, grid }),
+                    area: Some(LightArea { v1, v2, grid }),
                 });
             }
             _ => return Err(self.expected(Some(kind), "'punctual' or 'quad' after 'light'")),
@@ -310,5 +310,48 @@ impl Parser<'_> {
     /// Where the next token is (or the entity's keyword, at the end of the file).
     fn next_loc(&self, kw: &Token) -> Loc {
         self.lexer.clone().next().map_or(loc(kw), |t| loc(&t))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::math::Vec3;
+    use crate::nff::{parse_format, Format};
+    use crate::scene::Scene;
+
+    fn p3f(src: &str) -> Scene {
+        parse_format(src.as_bytes(), Format::P3f, &Default::default()).unwrap()
+    }
+
+    #[test]
+    fn mesh_indices_count_from_one_and_from_the_end() {
+        // Two meshes: the second's indices are its own (1 is its first vertex).
+        let s = p3f("mat 1 1 1 1 1 1 1 0 10 0 1\n\
+             mesh 4 2\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 2 3\n-4 -2 -1\n\
+             mesh 3 1\n5 5 5\n6 5 5\n5 6 5\n-1 1 2\n");
+        let corners: Vec<[u32; 3]> = s.mesh_triangles.iter().map(|t| t.vertices).collect();
+        // 1 2 3 -> 0 1 2; -4 -2 -1 of four -> 0 2 3; the second mesh starts at 4:
+        // -1 1 2 of three -> 6 4 5.
+        assert_eq!(corners, vec![[0, 1, 2], [0, 2, 3], [6, 4, 5]]);
+        assert_eq!(s.mesh_vertices[6], Vec3::new(5.0, 6.0, 5.0));
+        assert_eq!(s.meshes.len(), 2);
+        assert_eq!((s.meshes[1].first_vertex, s.meshes[1].first_triangle), (4, 2));
+        // Each triangle keeps the line of its indices.
+        let lines: Vec<u32> = s.mesh_triangles.iter().map(|t| t.line).collect();
+        assert_eq!(lines, vec![7, 8, 13]);
+    }
+
+    #[test]
+    fn an_area_light_is_centred_and_faces_its_target() {
+        let s = p3f("al 1 2 3 1 2 0 2 1 0.5 0.5 0.5\n");
+        let l = &s.lights[0];
+        let a = l.area.unwrap();
+        let (e1, e2) = (a.v1 - l.position, a.v2 - l.position);
+        // Centre (1, 2, 3); sides 2 and 1; facing -z, so both edges lie in z = 3.
+        let centre = l.position + e1 * 0.5 + e2 * 0.5;
+        assert!((centre - Vec3::new(1.0, 2.0, 3.0)).length() < 1e-6);
+        assert!((e1.length() - 2.0).abs() < 1e-6 && (e2.length() - 1.0).abs() < 1e-6);
+        assert!(e1.z.abs() < 1e-6 && e2.z.abs() < 1e-6 && e1.dot(e2).abs() < 1e-6);
+        assert_eq!(l.color, Some(Vec3::splat(0.5)));
     }
 }

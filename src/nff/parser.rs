@@ -4,6 +4,8 @@
 //! shared with P3F) and `p3f.rs` (P3F's own), one function per keyword, each quoting
 //! its syntax.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use super::chunks;
 use super::error::{ParseError, ParseErrorKind};
 use super::keywords;
@@ -48,20 +50,53 @@ pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError
 /// [`parse_bytes_with`]; P3F files are always parsed in one pass). A file without a
 /// single entity is an error.
 pub fn parse_format(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
+    parse_with(src, format, limits, None)
+}
+
+/// [`parse_format`] that gives up with [`ParseErrorKind::Cancelled`] soon after
+/// `cancel` is raised (it is polled between entities; one entity, a mesh say, is
+/// read whole).
+pub fn parse_format_cancellable(
+    src: &[u8],
+    format: Format,
+    limits: &Limits,
+    cancel: &AtomicBool,
+) -> Result<Scene, ParseError> {
+    parse_with(src, format, limits, Some(cancel))
+}
+
+fn parse_with(
+    src: &[u8],
+    format: Format,
+    limits: &Limits,
+    cancel: Option<&AtomicBool>,
+) -> Result<Scene, ParseError> {
     let src = text::scene_text(src)?;
     let parallel = match format {
-        Format::Nff => chunks::parse_in_parallel(src, limits),
+        Format::Nff => chunks::parse_in_parallel(src, limits, cancel),
         Format::P3f => None,
     };
     match parallel {
         Some(scene) => Ok(scene),
-        None => parse_in_one_pass(src, format, limits),
+        None => parse_in_one_pass_with(src, format, limits, cancel),
     }
 }
 
 /// [`parse_format`] on the calling thread, token after token.
+#[cfg(test)]
 pub(super) fn parse_in_one_pass(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
+    parse_in_one_pass_with(src, format, limits, None)
+}
+
+/// [`parse_in_one_pass`], polling `cancel` between entities.
+fn parse_in_one_pass_with(
+    src: &[u8],
+    format: Format,
+    limits: &Limits,
+    cancel: Option<&AtomicBool>,
+) -> Result<Scene, ParseError> {
     let mut p = Parser::new(Lexer::new(src), format, limits, false);
+    p.cancel = cancel;
     p.run()?;
     let end = p.lexer.end_location();
     if p.entities == 0 {
@@ -98,7 +133,12 @@ pub(super) struct Parser<'a> {
     pub(super) limits: Limits,
     /// Warnings past [`MAX_WARNINGS`], counted instead of kept.
     pub(super) warnings_left_out: usize,
+    /// Raised by the caller to stop early (polled every [`CANCEL_POLL`] entities).
+    pub(super) cancel: Option<&'a AtomicBool>,
 }
+
+/// Entities read between two looks at the cancellation flag.
+const CANCEL_POLL: usize = 256;
 
 /// A 1-based location.
 pub(super) type Loc = (u32, u32);
@@ -130,6 +170,7 @@ impl<'a> Parser<'a> {
             saw_background: false,
             limits: *limits,
             warnings_left_out: 0,
+            cancel: None,
         }
     }
 
@@ -137,6 +178,11 @@ impl<'a> Parser<'a> {
     /// [`Parser::finish`]).
     pub(super) fn run(&mut self) -> Result<(), ParseError> {
         while let Some(tok) = self.lexer.next() {
+            if self.entities.is_multiple_of(CANCEL_POLL)
+                && self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+            {
+                return Err(err(loc(&tok), ParseErrorKind::Cancelled));
+            }
             let Some(keyword) = keywords::find(tok.text, self.format) else {
                 let kind = if parse_f32(tok.text).is_some() {
                     ParseErrorKind::Expected {

@@ -1,16 +1,26 @@
-//! Writes a [`Scene`] back out as NFF text (used by `nffrt gen` and round-trip tests).
+//! Writes a [`Scene`] back out as NFF text (used by `nffrt gen` and round-trip tests)
+//! or as P3F text.
 //!
 //! Numbers are printed in Rust's shortest round-trip form (in exponent form when
 //! tiny or huge), so parsing the output gives back bit-identical `f32` values.
 //! Primitives are written in the order of their `line` (the file order of a parsed
 //! scene, the SPD's order for a generated one), kinds in a fixed order where lines
-//! tie, with an `f` line whenever the material changes. Wrap `w` in a
+//! tie, with a material line whenever the material changes. Wrap `w` in a
 //! `BufWriter`: the writer makes many small writes.
+//!
+//! P3F is written in the 2024/25 dialect whatever the scene was read from:
+//! `spp`, `accel`, `bclr`, `env`, `camera` (with `aperture` and `focal`), `light
+//! punctual` and `light quad` (a 2019 `al` becomes the `light quad` with its corner,
+//! edges and grid), `mat`, `s c p pp pl`, `box` and `mesh`. Reading it back gives
+//! the same scene but for its dialect. NFF has no meshes: written as NFF, a mesh's
+//! triangles become `p 3` polygons (and NFF drops what it cannot say: lens, area
+//! lights, specular colours, skybox, `spp`).
 
 use std::io::{self, Write};
 
+use super::Format;
 use crate::math::Vec3;
-use crate::scene::Scene;
+use crate::scene::{Accel, Dialect, Scene, View};
 
 /// A number in shortest round-trip form; exponent form below 1e-4 and from 1e9 on,
 /// where plain decimals would be long.
@@ -44,15 +54,17 @@ enum Kind {
     Sphere,
     Cone,
     Box,
+    Mesh,
 }
 
-const KINDS: [Kind; 6] = [
+const KINDS: [Kind; 7] = [
     Kind::Plane,
     Kind::Polygon,
     Kind::Patch,
     Kind::Sphere,
     Kind::Cone,
     Kind::Box,
+    Kind::Mesh,
 ];
 
 /// The line of the `i`-th primitive of `kind`, if there is one.
@@ -64,44 +76,144 @@ fn line_of(scene: &Scene, kind: Kind, i: usize) -> Option<u32> {
         Kind::Sphere => scene.spheres.get(i).map(|p| p.line),
         Kind::Cone => scene.cones.get(i).map(|p| p.line),
         Kind::Box => scene.boxes.get(i).map(|p| p.line),
+        Kind::Mesh => scene.meshes.get(i).map(|p| p.line),
     }
 }
 
 /// Writes `scene` as NFF to `w`.
 pub fn write_nff(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
-    let v = &scene.view;
-    writeln!(w, "b {}", V(scene.background))?;
-    writeln!(w, "v")?;
-    writeln!(w, "from {}", V(v.from))?;
-    writeln!(w, "at {}", V(v.at))?;
-    writeln!(w, "up {}", V(v.up))?;
-    writeln!(w, "angle {}", N(v.angle))?;
-    writeln!(w, "hither {}", N(v.hither))?;
-    writeln!(w, "resolution {} {}", v.width, v.height)?;
+    write_in(scene, Format::Nff, w)
+}
+
+/// Writes `scene` as P3F (the 2024/25 dialect; see the module docs) to `w`.
+pub fn write_p3f(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
+    write_in(scene, Format::P3f, w)
+}
+
+/// Writes `scene` in its own language: NFF for an NFF scene, P3F otherwise.
+pub fn write_scene(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
+    let format = if scene.dialect.is_p3f() {
+        Format::P3f
+    } else {
+        Format::Nff
+    };
+    write_in(scene, format, w)
+}
+
+/// The camera block of `view` as a file of `dialect` writes it, one sub-keyword per
+/// line: `v` for NFF (no lens) and P3F 2019/20 (with `aperture` and `focal`),
+/// `camera` (with `eye`) for P3F 2024/25.
+pub fn view_block(view: &View, dialect: Dialect) -> String {
+    let v = view;
+    let (head, eye) = match dialect {
+        Dialect::P3f2025 => ("camera", "eye"),
+        Dialect::Nff | Dialect::P3f2019 => ("v", "from"),
+    };
+    let mut out = format!(
+        "{head}\n{eye} {}\nat {}\nup {}\nangle {}\nhither {}\nresolution {} {}\n",
+        V(v.from),
+        V(v.at),
+        V(v.up),
+        N(v.angle),
+        N(v.hither),
+        v.width,
+        v.height
+    );
+    if dialect.is_p3f() {
+        out += &format!("aperture {}\nfocal {}\n", N(v.aperture), N(v.focal));
+    }
+    out
+}
+
+fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()> {
+    let p3f = format == Format::P3f;
+    if p3f {
+        if let Some(n) = scene.spp {
+            writeln!(w, "spp {n}")?;
+        }
+        if let Some(a) = scene.accel {
+            let name = match a {
+                Accel::None => "none",
+                Accel::Grid => "grid",
+                Accel::Bvh => "bvh",
+            };
+            writeln!(w, "accel {name}")?;
+        }
+        writeln!(w, "bclr {}", V(scene.background))?;
+        if let Some(e) = &scene.environment {
+            writeln!(w, "env {}", e.folder)?;
+        }
+    } else {
+        writeln!(w, "b {}", V(scene.background))?;
+    }
+    let dialect = if p3f { Dialect::P3f2025 } else { Dialect::Nff };
+    write!(w, "{}", view_block(&scene.view, dialect))?;
     for l in &scene.lights {
-        match l.color {
-            Some(c) => writeln!(w, "l {} {}", V(l.position), V(c))?,
-            None => writeln!(w, "l {}", V(l.position))?,
+        match (p3f, l.area, l.color) {
+            (true, None, c) => writeln!(
+                w,
+                "light punctual {} {}",
+                V(l.position),
+                V(c.unwrap_or(Vec3::ONE))
+            )?,
+            (true, Some(a), c) => writeln!(
+                w,
+                "light quad {} {} {} {} {}",
+                V(l.position),
+                V(c.unwrap_or(Vec3::ONE)),
+                V(a.v1),
+                V(a.v2),
+                a.grid
+            )?,
+            (false, _, Some(c)) => writeln!(w, "l {} {}", V(l.position), V(c))?,
+            (false, _, None) => writeln!(w, "l {}", V(l.position))?,
         }
     }
     // Compared by value, bit for bit: two table entries with equal values (a parsed
-    // `f A`, `f B`, `f A` whose `B` objects were all skipped) are one `f` line, so
-    // writing a scene read back from this text gives this text again.
-    let mut current: Option<[u32; 8]> = None;
+    // `f A`, `f B`, `f A` whose `B` objects were all skipped) are one material line,
+    // so writing a scene read back from this text gives this text again.
+    let mut current: Option<[u32; 11]> = None;
     let mut material = |w: &mut dyn Write, m: u32| -> io::Result<()> {
         let f = &scene.materials[m as usize];
-        let bits = [f.color.x, f.color.y, f.color.z, f.kd, f.ks, f.shine, f.t, f.ior].map(f32::to_bits);
+        let bits = [
+            f.color.x,
+            f.color.y,
+            f.color.z,
+            f.kd,
+            f.specular.x,
+            f.specular.y,
+            f.specular.z,
+            f.ks,
+            f.shine,
+            f.t,
+            f.ior,
+        ]
+        .map(f32::to_bits);
         if current != Some(bits) {
-            writeln!(
-                w,
-                "f {} {} {} {} {} {}",
-                V(f.color),
-                N(f.kd),
-                N(f.ks),
-                N(f.shine),
-                N(f.t),
-                N(f.ior)
-            )?;
+            if p3f {
+                writeln!(
+                    w,
+                    "mat {} {} {} {} {} {} {}",
+                    V(f.color),
+                    N(f.kd),
+                    V(f.specular),
+                    N(f.ks),
+                    N(f.shine),
+                    N(f.t),
+                    N(f.ior)
+                )?;
+            } else {
+                writeln!(
+                    w,
+                    "f {} {} {} {} {} {}",
+                    V(f.color),
+                    N(f.kd),
+                    N(f.ks),
+                    N(f.shine),
+                    N(f.t),
+                    N(f.ior)
+                )?;
+            }
             current = Some(bits);
         }
         Ok(())
@@ -156,6 +268,11 @@ pub fn write_nff(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
                     N(c.apex_radius)
                 )?;
             }
+            Kind::Box if p3f => {
+                let b = &scene.boxes[i];
+                material(w, b.material)?;
+                writeln!(w, "box {} {}", V(b.min), V(b.max))?;
+            }
             Kind::Box => {
                 let b = &scene.boxes[i];
                 material(w, b.material)?;
@@ -170,6 +287,28 @@ pub fn write_nff(scene: &Scene, w: &mut impl Write) -> io::Result<()> {
                     N(lo.z),
                     N(hi.z)
                 )?;
+            }
+            Kind::Mesh => {
+                let m = &scene.meshes[i];
+                material(w, m.material)?;
+                let first = m.first_vertex as usize;
+                let vertices = &scene.mesh_vertices[first..first + m.vertex_count as usize];
+                let triangles = scene.mesh_triangles_of(m);
+                if p3f {
+                    writeln!(w, "mesh {} {}", vertices.len(), triangles.len())?;
+                    for v in vertices {
+                        writeln!(w, "{}", V(*v))?;
+                    }
+                    for t in triangles {
+                        let [a, b, c] = t.vertices.map(|k| k - m.first_vertex + 1);
+                        writeln!(w, "{a} {b} {c}")?;
+                    }
+                } else {
+                    for t in triangles {
+                        let [a, b, c] = t.vertices.map(|k| V(scene.mesh_vertices[k as usize]));
+                        writeln!(w, "p 3\n{a}\n{b}\n{c}")?;
+                    }
+                }
             }
         }
     }

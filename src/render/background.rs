@@ -25,6 +25,15 @@ impl Background {
         }
     }
 
+    /// The colour seen along direction `d`.
+    #[inline(always)]
+    pub fn color(&self, d: Vec3) -> Vec3 {
+        match self {
+            Background::Color(c) => *c,
+            Background::Skybox(sky) => sky.color(&sky.texel(d)),
+        }
+    }
+
     /// The colour seen along direction `d`, and the skybox texel it came from.
     #[inline]
     pub fn look(&self, d: Vec3) -> (Vec3, Option<SkyTexel>) {

@@ -25,7 +25,7 @@ use crate::scene::{AngleSpan, View};
 use super::RenderOptions;
 
 /// Where an eye ray goes: a raster position and a position on the lens.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct CameraSample {
     /// Raster position (pixel units, from the top-left corner).
     pub raster: (f32, f32),
@@ -104,34 +104,40 @@ impl Camera {
         self.lens.is_some()
     }
 
-    /// The eye ray of sample `s` (unit direction).
+    /// The eye ray of sample `s` (unit direction). Through the centre of the lens it
+    /// is the pinhole ray ([`Camera::ray_at`]).
     #[inline(always)]
     pub fn ray(&self, s: &CameraSample) -> Ray {
-        let (x, y) = s.raster;
-        let sx = (x - self.half_width) * self.pitch;
-        let sy = (self.half_height - y) * self.pitch;
-        // The pinhole ray's direction, scaled so its forward component is 1.
-        let through = self.forward + self.right * sx + self.up * sy;
         match &self.lens {
-            None => Ray::new(self.origin, through.normalize()),
-            Some(lens) => self.lens_ray(lens, through, s.lens),
+            Some(lens) if s.lens != (0.5, 0.5) => self.lens_ray(lens, s),
+            _ => self.ray_at(s.raster.0, s.raster.1),
         }
     }
 
-    /// The ray from lens position `lens_at` through the focal-plane point of the
-    /// pinhole ray `through`.
-    #[inline(never)]
-    fn lens_ray(&self, lens: &ThinLens, through: Vec3, lens_at: (f32, f32)) -> Ray {
-        let (lx, ly) = concentric_disc(lens_at);
-        let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
-        let focus = self.origin + through * lens.focal_distance;
-        Ray::new(start, (focus - start).normalize())
+    /// The pinhole ray through raster position `(x, y)`, which is also the ray through
+    /// the centre of the lens.
+    #[inline(always)]
+    pub fn ray_at(&self, x: f32, y: f32) -> Ray {
+        Ray::new(self.origin, self.through(x, y).normalize())
     }
 
-    /// The ray through raster position `(x, y)` and the centre of the lens.
-    #[inline]
-    pub fn ray_at(&self, x: f32, y: f32) -> Ray {
-        self.ray(&CameraSample::at(x, y))
+    /// The direction of the pinhole ray through raster `(x, y)`, scaled so its forward
+    /// component is 1.
+    #[inline(always)]
+    fn through(&self, x: f32, y: f32) -> Vec3 {
+        let sx = (x - self.half_width) * self.pitch;
+        let sy = (self.half_height - y) * self.pitch;
+        self.forward + self.right * sx + self.up * sy
+    }
+
+    /// The ray of sample `s` from its point on the lens through the focal-plane point
+    /// of its pinhole ray.
+    #[inline(never)]
+    fn lens_ray(&self, lens: &ThinLens, s: &CameraSample) -> Ray {
+        let (lx, ly) = concentric_disc(s.lens);
+        let start = self.origin + (self.right * lx + self.up * ly) * lens.radius;
+        let focus = self.origin + self.through(s.raster.0, s.raster.1) * lens.focal_distance;
+        Ray::new(start, (focus - start).normalize())
     }
 }
 

@@ -3,7 +3,9 @@
 //! [`trace_pixel`] runs the same [`Tracer`] code path as [`super::render`] with a
 //! [`Recorder`] that builds a [`RayNode`] tree per eye ray, and combines the samples
 //! with the same functions, so the value it reports is bit for bit the rendered
-//! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact.
+//! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact;
+//! its `Serialize` gives the same data as JSON (tuples as arrays, vectors as
+//! `{x, y, z}`), for `nffrt view`.
 
 use std::fmt;
 
@@ -17,7 +19,7 @@ use crate::math::{Ray, Vec3};
 use crate::scene::{Dialect, Material, Scene};
 
 /// One ray of the tree and what it saw.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RayNode {
     /// Ray origin.
     pub origin: Vec3,
@@ -27,10 +29,12 @@ pub struct RayNode {
     pub hit: Option<HitNode>,
     /// The colour this ray returns (the background for a miss).
     pub color: Vec3,
+    /// For a miss under a skybox, the face and texel it saw.
+    pub sky: Option<SkyTexel>,
 }
 
 /// A surface hit of a [`RayNode`].
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct HitNode {
     /// Ray-tree depth (eye ray = 1).
     pub depth: u32,
@@ -59,7 +63,7 @@ pub struct HitNode {
 }
 
 /// What one light did at a hit.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum LightRecord {
     /// A point light's outcome.
     Point(LightOutcome),
@@ -73,7 +77,7 @@ pub enum LightRecord {
 }
 
 /// The ray trees of every eye ray of one pixel, and the pixel's value.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PixelTrace {
     /// Pixel column.
     pub x: u32,
@@ -82,7 +86,9 @@ pub struct PixelTrace {
     /// The options the pixel was traced with.
     pub opts: RenderOptions,
     /// Each eye ray: its raster position and tree.
-    pub samples: Vec<((f32, f32), RayNode)>,
+    pub samples: Vec<(CameraSample, RayNode)>,
+    /// True if the camera has a lens (the lens positions are printed).
+    pub lens: bool,
     /// The pixel's linear value, identical to the rendered one.
     pub value: Vec3,
     /// Ray counts of this pixel.
@@ -128,8 +134,9 @@ impl TreeRecorder<'_> {
 }
 
 impl Recorder for TreeRecorder<'_> {
-    fn miss(&mut self, ray: &Ray, background: Vec3, _texel: Option<SkyTexel>) {
+    fn miss(&mut self, ray: &Ray, background: Vec3, texel: Option<SkyTexel>) {
         let node = RayNode {
+            sky: texel,
             origin: ray.origin,
             dir: ray.dir,
             hit: None,
@@ -142,6 +149,7 @@ impl Recorder for TreeRecorder<'_> {
     fn hit(&mut self, ray: &Ray, h: &HitRecord) {
         let m = h.primitive.material;
         let node = RayNode {
+            sky: None,
             origin: ray.origin,
             dir: ray.dir,
             hit: Some(HitNode {
@@ -205,7 +213,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
             root: None,
         };
         let c = tracer.trace_eye_recorded(&camera.ray(&sample), &id, &mut stats, &mut rec);
-        samples.push((sample.raster, rec.root.expect("every eye ray records a tree")));
+        samples.push((sample, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
@@ -228,6 +236,7 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
         y,
         opts: *opts,
         samples,
+        lens: camera.has_lens(),
         value,
         stats,
         lights: scene.lights.iter().map(|l| l.position).collect(),
@@ -297,7 +306,17 @@ impl PixelTrace {
         let pad = "  ".repeat(indent);
         writeln!(f, "{pad}ray from {} dir {}", V(node.origin), V(node.dir))?;
         let Some(h) = &node.hit else {
-            return writeln!(f, "{pad}miss: background {}", V(node.color));
+            return match node.sky {
+                Some(t) => writeln!(
+                    f,
+                    "{pad}miss: skybox face {}, texel ({}, {}) from its bottom-left: {}",
+                    t.face.name(),
+                    t.column,
+                    t.row,
+                    V(node.color)
+                ),
+                None => writeln!(f, "{pad}miss: background {}", V(node.color)),
+            };
         };
         let side = if h.entering { "entering" } else { "leaving" };
         writeln!(
@@ -312,9 +331,14 @@ impl PixelTrace {
             writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
         }
         let (mi, m) = &h.material;
+        let specular = if self.dialect.is_p3f() {
+            format!(" specular {}", V(m.specular))
+        } else {
+            String::new()
+        };
         writeln!(
             f,
-            "{pad}  material #{mi}: colour {} Kd {} Ks {} shine {} T {} ior {}",
+            "{pad}  material #{mi}: colour {} Kd {}{specular} Ks {} shine {} T {} ior {}",
             V(m.color),
             m.kd,
             m.ks,
@@ -370,8 +394,18 @@ impl fmt::Display for PixelTrace {
             self.x, self.y, self.opts.width, self.opts.height, self.opts.sampling, self.opts.max_depth
         )?;
         let n = self.samples.len();
-        for (k, ((px, py), node)) in self.samples.iter().enumerate() {
-            writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+        for (k, (sample, node)) in self.samples.iter().enumerate() {
+            let (px, py) = sample.raster;
+            if self.lens {
+                let (u, v) = sample.lens;
+                writeln!(
+                    f,
+                    "eye ray {} of {n} through raster ({px}, {py}), lens ({u}, {v}):",
+                    k + 1
+                )?;
+            } else {
+                writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
+            }
             self.write_node(f, node, 1)?;
         }
         let v = self.value;
@@ -446,5 +480,26 @@ mod tests {
         }
         // The glass sphere is in view, so the check covered refraction too.
         assert!(refracted > 0);
+    }
+
+    /// The JSON form names each hit's primitive kind and line and each light's outcome.
+    #[test]
+    fn the_tree_serializes_with_kinds_lines_and_outcomes() {
+        let scene = crate::nff::parse(
+            "v from 0 0 10 at 0 0 0 up 0 1 0 angle 30 hither 1 resolution 3 3\nl 0 0 20\n\
+             f 1 1 1 1 0 1 0 1\ns 0 0 0 1\n",
+        )
+        .unwrap();
+        let bvh = Bvh::new(build_geometry(&scene));
+        let t = trace_pixel(&scene, &bvh, &RenderOptions::from_scene(&scene), 1, 1);
+        let json = serde_json::to_value(&t).unwrap();
+        let hit = &json["samples"][0][1]["hit"];
+        assert_eq!(hit["kind"], "Sphere");
+        assert_eq!(hit["line"], 4);
+        assert!(
+            hit["lights"][0]["Point"]["Lit"]["x"].as_f64().unwrap() > 0.0,
+            "{hit}"
+        );
+        assert_eq!(json["value"]["x"].as_f64().unwrap(), t.value.x as f64);
     }
 }

@@ -16,7 +16,7 @@
 //! - soft shadows off (the viewer's toggle): the light's centre alone.
 
 use crate::math::Vec3;
-use crate::scene::{LightArea, Scene};
+use crate::scene::Scene;
 
 use super::sampling::{sample_2d, Dim, SampleId};
 
@@ -28,7 +28,18 @@ pub struct LightSource {
     /// Intensity (RGB).
     pub intensity: Vec3,
     /// The area light's extent.
-    pub area: Option<LightArea>,
+    pub area: Option<LightQuad>,
+}
+
+/// An area light's parallelogram: the points `position + u edge1 + v edge2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightQuad {
+    /// First edge from the corner.
+    pub edge1: Vec3,
+    /// Second edge from the corner.
+    pub edge2: Vec3,
+    /// Points per side of its regular grid.
+    pub grid: u32,
 }
 
 /// How area lights are sampled in a render (see the module docs).
@@ -49,7 +60,11 @@ impl LightSource {
             .map(|l| LightSource {
                 position: l.position,
                 intensity: l.color.unwrap_or(default_intensity),
-                area: l.area,
+                area: l.area.map(|a| LightQuad {
+                    edge1: a.v1 - l.position,
+                    edge2: a.v2 - l.position,
+                    grid: a.grid,
+                }),
             })
             .collect()
     }
@@ -125,7 +140,7 @@ mod tests {
         LightSource {
             position: Vec3::new(-1.0, -1.0, 5.0),
             intensity: Vec3::ONE,
-            area: Some(LightArea {
+            area: Some(LightQuad {
                 edge1: Vec3::new(2.0, 0.0, 0.0),
                 edge2: Vec3::new(0.0, 2.0, 0.0),
                 grid,

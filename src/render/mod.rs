@@ -10,6 +10,7 @@ mod background;
 mod camera;
 pub mod debug;
 mod light;
+mod progressive;
 mod sampling;
 mod shade;
 mod stats;
@@ -17,9 +18,10 @@ mod trace;
 
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
-pub use light::{LightSampling, LightSource};
+pub use light::{LightQuad, LightSampling, LightSource};
+pub use progressive::{render_preview, Accumulator};
 pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
-pub use shade::{schlick, Model};
+pub use shade::{schlick, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
@@ -82,10 +84,16 @@ impl RenderOptions {
 /// The default maximum ray depth (the SPD's).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
 
-/// Watches a render as it runs: progress reports and cancellation.
+/// Watches a render as it runs: progress reports, the finished pixels, cancellation.
+/// Rows finish in any order and on any of the render's threads.
 pub trait Observer: Sync {
     /// Called after each finished row of eye rays, with the rays that row traced.
     fn row_done(&self, _rays: u64) {}
+    /// Called with each finished row of the image: row `y` (absolute) and its
+    /// pixels, the rendered region's columns in order, exactly the values the
+    /// image will hold (for [`Sampling::SpdCorners`], once the corners around it
+    /// are traced).
+    fn row_pixels(&self, _y: u32, _pixels: &[Vec3]) {}
     /// Polled between rows: returning true abandons the render.
     fn cancelled(&self) -> bool {
         false
@@ -155,10 +163,12 @@ pub fn render_region(
         tracer.trace_eye_row(&rays, (x0, y), st, out);
     };
     let pixels = match opts.sampling {
-        Sampling::PixelCenters => trace_rows(y0, w, h, observer, |y, st, out| eye_row(0.5, w, y, st, out)),
+        Sampling::PixelCenters => {
+            trace_rows(y0, w, h, observer, true, |y, st, out| eye_row(0.5, w, y, st, out))
+        }
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
             let sampler = opts.sampling.pixel_sampler(camera.has_lens());
-            trace_rows(y0, w, h, observer, |y, st, out| {
+            trace_rows(y0, w, h, observer, true, |y, st, out| {
                 for x in x0..x0 + w as u32 {
                     out.push(pixel_mean(&sampler, x, y, |sample, id| {
                         tracer.trace_eye(&camera.ray(&sample), &id, st)
@@ -169,7 +179,7 @@ pub fn render_region(
         Sampling::SpdCorners => {
             // Corner (i, j) is the raster point (i, j): the region's pixels need the
             // corners x0..=x1, y0..=y1, the same rays the full render traces there.
-            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, |y, st, out| {
+            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, false, |y, st, out| {
                 eye_row(0.0, w + 1, y, st, out)
             })?;
             let mut pixels = vec![Vec3::ZERO; w * h];
@@ -178,6 +188,7 @@ pub fn render_region(
                 for (i, p) in row.iter_mut().enumerate() {
                     *p = spd_mean(top[i], top[i + 1], bottom[i], bottom[i + 1]);
                 }
+                observer.row_pixels(y0 + j as u32, row);
             });
             Some((pixels, stats))
         }
@@ -215,22 +226,46 @@ pub fn pixel_mean(
 }
 
 /// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
-/// (which appends `cols` values to `out`), rows in parallel, assembled in order.
-///
-/// Every row is a task of its own that an idle thread can steal: rayon's default
-/// splitting stops once each thread holds a few long runs of rows, and where rows
-/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
-/// then worked alone through the end of the image, a third of the render.
+/// (which appends `cols` values to `out`), rows in parallel ([`each_row`]),
+/// assembled in order; each row goes to [`Observer::row_pixels`] if `pixels` (rows
+/// of the image, not of SPD corners).
 fn trace_rows(
     y0: u32,
     cols: usize,
     rows: usize,
     observer: &dyn Observer,
+    pixels: bool,
     row: impl Fn(u32, &mut Stats, &mut Vec<Vec3>) + Sync,
 ) -> Option<(Vec<Vec3>, Stats)> {
     // Each task copies its row into place, so no thread assembles the image alone.
     let mut out = vec![Vec3::ZERO; cols * rows];
-    let per_row: Option<Vec<Stats>> = out
+    let stats = each_row(&mut out, cols, observer, |j, place, stats| {
+        let mut values = Vec::with_capacity(cols);
+        row(y0 + j, stats, &mut values);
+        place.copy_from_slice(&values);
+        if pixels {
+            observer.row_pixels(y0 + j, &values);
+        }
+    })?;
+    Some((out, stats))
+}
+
+/// Runs `row(j, place, stats)` on each row `j` of `pixels` (rows of `cols`) in
+/// parallel, each writing its row in place with an empty shadow cache; reports
+/// each row's rays to the observer and sums the counts. `None` once the observer
+/// cancels (rows not started then are left as they were).
+///
+/// Every row is a task of its own that an idle thread can steal: rayon's default
+/// splitting stops once each thread holds a few long runs of rows, and where rows
+/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
+/// then worked alone through the end of the image, a third of the render.
+fn each_row(
+    pixels: &mut [Vec3],
+    cols: usize,
+    observer: &dyn Observer,
+    row: impl Fn(u32, &mut [Vec3], &mut Stats) + Sync,
+) -> Option<Stats> {
+    let per_row: Option<Vec<Stats>> = pixels
         .par_chunks_mut(cols)
         .enumerate()
         .with_max_len(1)
@@ -240,9 +275,7 @@ fn trace_rows(
             }
             let mut stats = Stats::default();
             trace::reset_shadow_cache();
-            let mut values = Vec::with_capacity(cols);
-            row(y0 + j as u32, &mut stats, &mut values);
-            place.copy_from_slice(&values);
+            row(j as u32, place, &mut stats);
             observer.row_done(stats.total_rays());
             Some(stats)
         })
@@ -251,5 +284,5 @@ fn trace_rows(
     for s in per_row? {
         stats += s;
     }
-    Some((out, stats))
+    Some(stats)
 }

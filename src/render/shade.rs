@@ -34,7 +34,7 @@ use crate::scene::{Dialect, Material, Scene};
 use super::light::LightSource;
 
 /// The kind of a secondary ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Branch {
     /// Mirror reflection.
     Reflection,
@@ -113,69 +113,94 @@ pub struct Secondary {
     pub reflection: Option<(Branch, Vec3)>,
 }
 
-impl Model {
+/// The rules of one model for the secondary rays of a hit: a type per model, so the
+/// recursion is compiled once per model and pays for no choice at every hit.
+pub trait Rules {
     /// The secondary rays of a hit on `m` by unit direction `d`, with unit normal
     /// `n` facing the ray; `entering` says whether the ray crosses into the object.
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary;
+}
+
+/// [`Model::Spd`]'s rules.
+pub struct SpdRules;
+
+/// [`Model::P3f`]'s rules.
+pub struct P3fRules;
+
+/// The indices of refraction on the incident and the transmitted side (`ior <= 0`,
+/// seen on opaque materials, means 1).
+#[inline(always)]
+fn indices(m: &Material, entering: bool) -> (f32, f32) {
+    let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
+    if entering {
+        (1.0, ior)
+    } else {
+        (ior, 1.0)
+    }
+}
+
+impl Rules for SpdRules {
     #[inline(always)]
-    pub fn secondary(self, m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
-        // Indices of refraction of 0 or less (seen on opaque materials) mean 1.
-        let indices = || {
-            let ior = if m.ior > 0.0 { m.ior } else { 1.0 };
-            if entering {
-                (1.0, ior)
-            } else {
-                (ior, 1.0)
-            }
-        };
-        match self {
-            Model::Spd => {
-                if m.ks <= 0.0 && m.t <= 0.0 {
-                    return Secondary {
-                        refraction: None,
-                        reflection: None,
-                    };
-                }
-                let mut weight = m.ks;
-                let mut kind = Branch::Reflection;
-                let mut refraction = None;
-                if m.t > 0.0 {
-                    let (n1, n2) = indices();
-                    match refract(d, n, n1 / n2) {
-                        Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
-                        // Total internal reflection: the transmitted share goes to the mirror ray.
-                        None => {
-                            weight += m.t;
-                            kind = Branch::TotalInternalReflection;
-                        }
-                    }
-                }
-                Secondary {
-                    refraction,
-                    reflection: Some((kind, Vec3::splat(weight))),
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+        if m.ks <= 0.0 && m.t <= 0.0 {
+            return Secondary {
+                refraction: None,
+                reflection: None,
+            };
+        }
+        let mut weight = m.ks;
+        let mut kind = Branch::Reflection;
+        let mut refraction = None;
+        if m.t > 0.0 {
+            let (n1, n2) = indices(m, entering);
+            match refract(d, n, n1 / n2) {
+                Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
+                // Total internal reflection: the transmitted share goes to the mirror ray.
+                None => {
+                    weight += m.t;
+                    kind = Branch::TotalInternalReflection;
                 }
             }
-            Model::P3f if m.t > 0.0 => {
-                let (n1, n2) = indices();
-                match refract(d, n, n1 / n2) {
-                    Some(dir) => {
-                        let cos_i = -d.dot(n);
-                        let cos_t = -dir.dot(n);
-                        let r = schlick(cos_i, cos_t, n1, n2);
-                        Secondary {
-                            refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
-                            reflection: Some((Branch::Reflection, m.specular * r)),
-                        }
-                    }
-                    None => Secondary {
-                        refraction: None,
-                        reflection: Some((Branch::TotalInternalReflection, m.specular)),
-                    },
-                }
-            }
-            Model::P3f => Secondary {
+        }
+        Secondary {
+            refraction,
+            reflection: Some((kind, Vec3::splat(weight))),
+        }
+    }
+}
+
+impl Rules for P3fRules {
+    #[inline(always)]
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+        if m.t <= 0.0 {
+            return Secondary {
                 refraction: None,
                 reflection: (m.ks > 0.0).then_some((Branch::Reflection, m.specular * m.ks)),
+            };
+        }
+        let (n1, n2) = indices(m, entering);
+        match refract(d, n, n1 / n2) {
+            Some(dir) => {
+                let r = schlick(-d.dot(n), -dir.dot(n), n1, n2);
+                Secondary {
+                    refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
+                    reflection: Some((Branch::Reflection, m.specular * r)),
+                }
+            }
+            None => Secondary {
+                refraction: None,
+                reflection: Some((Branch::TotalInternalReflection, m.specular)),
             },
+        }
+    }
+}
+
+impl Model {
+    /// The secondary rays of a hit under this model's rules (see [`Rules`]).
+    pub fn secondary(self, m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+        match self {
+            Model::Spd => SpdRules::secondary(m, d, n, entering),
+            Model::P3f => P3fRules::secondary(m, d, n, entering),
         }
     }
 }

@@ -8,7 +8,7 @@
 use super::background::Background;
 use super::light::{LightSampling, LightSource};
 use super::sampling::SampleId;
-use super::shade::{local, reflect, Lighting};
+use super::shade::{local, reflect, Lighting, Model, P3fRules, Rules, SpdRules};
 use super::stats::Stats;
 use super::RenderOptions;
 use std::cell::Cell;
@@ -52,7 +52,7 @@ pub struct HitRecord<'a> {
 }
 
 /// What became of one point of a light at a hit (the whole of a point light).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum LightOutcome {
     /// The point is behind the surface: no shadow ray (SPD rule).
     Behind,
@@ -63,7 +63,7 @@ pub enum LightOutcome {
 }
 
 /// What became of an area light at a hit: its points' outcomes summed up.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct AreaOutcome {
     /// Points sampled.
     pub samples: u32,
@@ -168,11 +168,14 @@ impl<'a> Tracer<'a> {
         rec: &mut R,
     ) -> Vec3 {
         stats.eye_rays += 1;
-        finite_or_black(self.trace(ray, 1, id, stats, rec))
+        finite_or_black(match self.lighting.model {
+            Model::Spd => self.trace::<R, SpdRules>(ray, 1, id, stats, rec),
+            Model::P3f => self.trace::<R, P3fRules>(ray, 1, id, stats, rec),
+        })
     }
 
-    /// The colour seen along `ray` at ray-tree depth `depth`.
-    fn trace<R: Recorder>(
+    /// The colour seen along `ray` at ray-tree depth `depth`, under model `M`.
+    fn trace<R: Recorder, M: Rules>(
         &self,
         ray: &Ray,
         depth: u32,
@@ -181,7 +184,7 @@ impl<'a> Tracer<'a> {
         rec: &mut R,
     ) -> Vec3 {
         let found = self.bvh.closest_hit(ray, f32::INFINITY);
-        self.shade(ray, depth, found, id, stats, rec)
+        self.shade::<R, M>(ray, depth, found, id, stats, rec)
     }
 
     /// Eye rays (depth 1) a row at a time, [`PACKET`] neighbours traced through the
@@ -190,26 +193,24 @@ impl<'a> Tracer<'a> {
     /// colours to `out`. Ray `i` is the single sample of pixel `(x0 + i, y)`.
     pub fn trace_eye_row(&self, rays: &[Ray], (x0, y): (u32, u32), stats: &mut Stats, out: &mut Vec<Vec3>) {
         let mut hits = [None; PACKET];
-        for (c, packet) in rays.chunks(PACKET).enumerate() {
+        let mut id = SampleId::single(x0, y);
+        for packet in rays.chunks(PACKET) {
             let hits = &mut hits[..packet.len()];
             self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
-            for (i, (ray, &found)) in packet.iter().zip(hits.iter()).enumerate() {
+            for (ray, &found) in packet.iter().zip(hits.iter()) {
                 stats.eye_rays += 1;
-                let id = SampleId::single(x0 + (c * PACKET + i) as u32, y);
-                out.push(finite_or_black(self.shade(
-                    ray,
-                    1,
-                    found,
-                    &id,
-                    stats,
-                    &mut NoRecord,
-                )));
+                let color = match self.lighting.model {
+                    Model::Spd => self.shade::<NoRecord, SpdRules>(ray, 1, found, &id, stats, &mut NoRecord),
+                    Model::P3f => self.shade::<NoRecord, P3fRules>(ray, 1, found, &id, stats, &mut NoRecord),
+                };
+                out.push(finite_or_black(color));
+                id.x += 1;
             }
         }
     }
 
     /// The colour seen along `ray` (at ray-tree depth `depth`) given its closest hit.
-    fn shade<R: Recorder>(
+    fn shade<R: Recorder, M: Rules>(
         &self,
         ray: &Ray,
         depth: u32,
@@ -219,11 +220,12 @@ impl<'a> Tracer<'a> {
         rec: &mut R,
     ) -> Vec3 {
         let Some((hit, index)) = found else {
-            let (color, texel) = self.background.look(ray.dir);
             if R::ENABLED {
+                let (color, texel) = self.background.look(ray.dir);
                 rec.miss(ray, color, texel);
+                return color;
             }
-            return color;
+            return self.background.color(ray.dir);
         };
         if depth == 1 {
             stats.eye_hits += 1;
@@ -245,11 +247,7 @@ impl<'a> Tracer<'a> {
         // Secondary rays start off the surface by the point's error bound, on the
         // ray's side (shadow and mirror rays) or the far side (refracted rays).
         let offset = prim.origin_offset(&surface, point_error(p, ray, hit.t));
-        let (above, below) = if entering {
-            (p + offset, p - offset)
-        } else {
-            (p - offset, p + offset)
-        };
+        let above = if entering { p + offset } else { p - offset };
         let diffuse = m.color * m.kd;
         let mut color = self.lighting.ambient.mul_elem(diffuse);
         if R::ENABLED {
@@ -304,14 +302,15 @@ impl<'a> Tracer<'a> {
             }
             return color;
         }
-        let secondary = self.lighting.model.secondary(m, ray.dir, n, entering);
+        let secondary = M::secondary(m, ray.dir, n, entering);
         if let Some((dir, weight)) = secondary.refraction {
             stats.refraction_rays += 1;
             if R::ENABLED {
                 rec.branch(Branch::Refraction, weight);
             }
+            let below = if entering { p - offset } else { p + offset };
             color += self
-                .trace(&Ray::new(below, dir), depth + 1, id, stats, rec)
+                .trace::<R, M>(&Ray::new(below, dir), depth + 1, id, stats, rec)
                 .mul_elem(weight);
         }
         if let Some((kind, weight)) = secondary.reflection {
@@ -320,7 +319,7 @@ impl<'a> Tracer<'a> {
             if R::ENABLED {
                 rec.branch(kind, weight);
             }
-            color += self.trace(&r, depth + 1, id, stats, rec).mul_elem(weight);
+            color += self.trace::<R, M>(&r, depth + 1, id, stats, rec).mul_elem(weight);
         }
         if R::ENABLED {
             rec.done(color);

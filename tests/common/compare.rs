@@ -1,9 +1,10 @@
 //! Comparing two parsed scenes for meaning: everything must match except the source
-//! `line` of each primitive, the warnings, and how the material table is numbered.
+//! `line` of each primitive, the warnings, how the material table is numbered, and
+//! the P3F dialect (nffrt writes P3F in the 2024/25 one).
 
 use std::fmt::Debug;
 
-use nffrt::scene::Material;
+use nffrt::scene::{Dialect, Material};
 use nffrt::Scene;
 
 /// `scene` with every `line` set to 0, no warnings, and a material table rebuilt in
@@ -12,6 +13,12 @@ use nffrt::Scene;
 pub fn canonical(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.warnings.clear();
+    if s.dialect.is_p3f() {
+        s.dialect = Dialect::P3f2025;
+    }
+    for t in &mut s.mesh_triangles {
+        t.line = 0;
+    }
     let old = std::mem::take(&mut s.materials);
     let mut table: Vec<Material> = Vec::new();
     let mut remap = |m: &mut u32| {
@@ -43,6 +50,10 @@ pub fn canonical(scene: &Scene) -> Scene {
         p.line = 0;
     }
     for p in &mut s.boxes {
+        remap(&mut p.material);
+        p.line = 0;
+    }
+    for p in &mut s.meshes {
         remap(&mut p.material);
         p.line = 0;
     }
@@ -79,7 +90,10 @@ pub fn same_scene(a: &Scene, b: &Scene) -> Result<(), String> {
         .or_else(|| first_difference("patch_vertices", &a.patch_vertices, &b.patch_vertices))
         .or_else(|| first_difference("patch_normals", &a.patch_normals, &b.patch_normals))
         .or_else(|| first_difference("planes", &a.planes, &b.planes))
-        .or_else(|| first_difference("boxes", &a.boxes, &b.boxes));
+        .or_else(|| first_difference("boxes", &a.boxes, &b.boxes))
+        .or_else(|| first_difference("meshes", &a.meshes, &b.meshes))
+        .or_else(|| first_difference("mesh_vertices", &a.mesh_vertices, &b.mesh_vertices))
+        .or_else(|| first_difference("mesh_triangles", &a.mesh_triangles, &b.mesh_triangles));
     match diff {
         Some(d) => Err(d),
         // Everything is compared above; this catches a field added to Scene later.

@@ -77,10 +77,11 @@ pub fn data_dir(kind: &str) -> PathBuf {
 
 /// The `.nff` files directly in `dir`, sorted by name.
 pub fn nff_files(dir: &Path) -> Vec<PathBuf> {
+    // (`.nff` and `.p3f` files alike: the binary picks the format by the extension.)
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
         .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "nff"))
+        .filter(|p| p.extension().is_some_and(|x| x == "nff" || x == "p3f"))
         .collect();
     files.sort();
     files

@@ -1,11 +1,11 @@
-"""The README's render-farm recipes, run on this machine as written there, each
-result compared with a direct render byte for byte:
+"""The render-farm recipes of docs/command-line.md, run on this machine as written
+there, each result compared with a direct render byte for byte:
 
 - GNU parallel (``parallel`` from Debian), with this machine alone (``-S :``
   instead of ``-S :,host1,host2``; parallel then copies nothing), then
   ``nffrt merge``;
 - Dask, against a real scheduler: ``dask scheduler`` and ``dask worker`` started
-  here as processes, their address put in place of the README's.
+  here as processes, their address put in place of the page's.
 """
 
 from __future__ import annotations
@@ -23,14 +23,14 @@ import pytest
 
 from helpers import REPO, run_cli, shared
 
-README = (REPO / "README.md").read_text()
+PAGE = REPO / "docs" / "command-line.md"
 
 
 def block(language: str, containing: str) -> str:
-    """The README's fenced ``language`` block that contains ``containing``."""
-    blocks = re.findall(rf"```{language}\n(.*?)```", README, re.S)
+    """The page's fenced ``language`` block that contains ``containing``."""
+    blocks = re.findall(rf"```{language}\n(.*?)```", PAGE.read_text(), re.S)
     found = [b for b in blocks if containing in b]
-    assert len(found) == 1, f"{len(found)} README {language} blocks contain {containing!r}"
+    assert len(found) == 1, f"{len(found)} {PAGE.name} {language} blocks contain {containing!r}"
     return found[0]
 
 
@@ -104,7 +104,7 @@ def test_dask_recipe_against_a_scheduler(nffrt_bin: str, scheduler: str, tmp_pat
     with Client(scheduler) as c:
         c.wait_for_workers(2, timeout=120)
     namespace: dict = {}
-    exec(compile(code, "README.md (Dask recipe)", "exec"), namespace)
+    exec(compile(code, "docs/command-line.md (Dask recipe)", "exec"), namespace)
     namespace["client"].close()
     run_cli(nffrt_bin, "render", "mount.nff", "--spp", "16", "-q", "-o", "direct.png", cwd=tmp_path)
     assert (tmp_path / "mount.png").read_bytes() == (tmp_path / "direct.png").read_bytes()

@@ -1,0 +1,127 @@
+//! The page's camera in the scene's terms: the view a request asks for, and that
+//! view written as the block to paste into the file ("copy camera").
+
+use super::protocol::{CameraMsg, OptionsMsg};
+use nffrt::math::Vec3;
+use nffrt::render::{RenderOptions, Sampling};
+use nffrt::scene::{Dialect, View};
+
+/// The scene's view moved to `camera` (the lens, hither and angle span stay the
+/// file's), at the requested resolution.
+pub fn view_of(file: &View, camera: &CameraMsg, options: &OptionsMsg) -> View {
+    View {
+        from: Vec3::from_array(camera.from),
+        at: Vec3::from_array(camera.at),
+        up: Vec3::from_array(camera.up),
+        angle: camera.angle,
+        width: options.width,
+        height: options.height,
+        ..*file
+    }
+}
+
+/// The render options a request asks for: what `nffrt render --width --height
+/// --max-depth --spp` gives, with the lens off (`--aperture 0`) unless wanted and
+/// area lights from their centre unless soft shadows are.
+pub fn render_options(options: &OptionsMsg) -> RenderOptions {
+    RenderOptions {
+        width: options.width,
+        height: options.height,
+        max_depth: options.max_depth,
+        sampling: match options.spp {
+            0 | 1 => Sampling::PixelCenters,
+            spp => Sampling::Stratified { spp },
+        },
+        aperture: (!options.lens).then_some(0.0),
+        soft_shadows: options.soft_shadows,
+        ..RenderOptions::default()
+    }
+}
+
+/// `view` as the scene file's camera block: `v` for NFF (no lens) and P3F 2019/20
+/// (with `aperture` and `focal`), `camera` for P3F 2024/25
+/// ([`nffrt::nff::view_block`]; its numbers read back to the same `f32`).
+pub fn camera_block(view: &View, dialect: Dialect) -> String {
+    nffrt::nff::view_block(view, dialect)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nffrt::nff::{parse_format, Format, Limits};
+
+    /// A view whose numbers need every digit.
+    fn odd_view(base: View) -> View {
+        View {
+            from: Vec3::new(0.1, -2.345_678_9, 1e-7),
+            at: Vec3::new(1.0 / 3.0, 0.0, -7.25),
+            up: Vec3::new(0.0, 1.0, 0.2),
+            angle: 37.123_455,
+            width: 321,
+            height: 123,
+            ..base
+        }
+    }
+
+    #[test]
+    fn blocks_read_back_as_the_same_view_in_every_language() {
+        for (text, format) in [
+            (
+                "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\ns 0 0 0 1\n",
+                Format::Nff,
+            ),
+            (
+                "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8 aperture 2 focal 1.5\n\
+                 s 0 0 0 1\n",
+                Format::P3f,
+            ),
+            (
+                "spp 0\ncamera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 0.5 resolution 8 8 \
+                 aperture 3 focal 2\ns 0 0 0 1\n",
+                Format::P3f,
+            ),
+        ] {
+            let scene = parse_format(text.as_bytes(), format, &Limits::default()).unwrap();
+            let view = odd_view(scene.view);
+            let block = camera_block(&view, scene.dialect);
+            // The block replaces the file's camera: the file then has exactly this view.
+            let first_line_end = text.find("\ns ").unwrap();
+            let edited = format!(
+                "{}{block}{}",
+                &text[..text.find(['v', 'c']).unwrap()],
+                &text[first_line_end + 1..]
+            );
+            let back = parse_format(edited.as_bytes(), format, &Limits::default())
+                .unwrap_or_else(|e| panic!("{e}\n{edited}"));
+            assert_eq!(back.view, view, "{edited}");
+        }
+    }
+
+    #[test]
+    fn options_map_to_the_render_flags() {
+        let o = OptionsMsg {
+            width: 10,
+            height: 20,
+            max_depth: 3,
+            spp: 1,
+            lens: true,
+            soft_shadows: true,
+        };
+        let r = render_options(&o);
+        assert_eq!((r.width, r.height, r.max_depth), (10, 20, 3));
+        assert_eq!(
+            (r.sampling, r.aperture, r.soft_shadows),
+            (Sampling::PixelCenters, None, true)
+        );
+        let r = render_options(&OptionsMsg {
+            spp: 9,
+            lens: false,
+            soft_shadows: false,
+            ..o
+        });
+        assert_eq!(
+            (r.sampling, r.aperture, r.soft_shadows),
+            (Sampling::Stratified { spp: 9 }, Some(0.0), false)
+        );
+    }
+}

@@ -1,0 +1,181 @@
+//! The scene being viewed: loaded and built once, then again each time its file
+//! changes (live reload), as mdBook's `serve` watches its sources.
+//!
+//! A watcher on the file's folder (editors often save by writing a new file and
+//! renaming it over the old one) wakes a loader thread; events closer together than
+//! [`SETTLE`] make one reload, and an event that arrives while a reload is parsing
+//! cancels it. A good scene replaces the current one and is broadcast to every
+//! session; a bad one is broadcast as an error, and the current scene stays.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc, RwLock};
+use std::time::{Duration, Instant};
+
+use notify::{EventKind, RecursiveMode, Watcher};
+use tokio::sync::broadcast;
+
+use super::protocol::Counts;
+use crate::cli::limits::SceneLimitArgs;
+use crate::cli::load::{build_bvh, load_scene_cancellable, Fingerprint};
+use crate::cli::CliError;
+use nffrt::accel::Bvh;
+use nffrt::Scene;
+
+/// How long the file must stay quiet before it is read.
+pub const SETTLE: Duration = Duration::from_millis(60);
+
+/// A loaded, built scene.
+pub struct Loaded {
+    /// What the tracer reads: view, lights, materials, background (the primitive
+    /// lists are emptied once the BVH holds them, and the warnings moved out).
+    pub scene: Scene,
+    /// The acceleration structure over the primitives.
+    pub bvh: Bvh,
+    /// 0 for the first load, then one more for each successful reload.
+    pub version: u64,
+    /// What the scene holds.
+    pub counts: Counts,
+    /// The parser's warnings, `LINE:COLUMN: message`.
+    pub warnings: Vec<String>,
+    /// Seconds spent reading, parsing and building.
+    pub load_s: f64,
+}
+
+/// What the loader tells the sessions.
+#[derive(Clone)]
+pub enum SceneEvent {
+    /// The file changed and loaded: the new scene.
+    Loaded(Arc<Loaded>),
+    /// The file changed and could not be loaded.
+    Failed {
+        /// `FILE:LINE:COLUMN: what`, or the reason.
+        message: String,
+        /// Line and column of a parse error.
+        at: Option<(u32, u32)>,
+    },
+}
+
+/// The scene file and how to read it.
+pub struct Source {
+    /// The file.
+    pub path: PathBuf,
+    /// How to read it.
+    pub limits: SceneLimitArgs,
+}
+
+impl Source {
+    /// Reads, parses and builds the file (cancelled soon after `cancel` is raised,
+    /// except during the BVH build).
+    pub fn load(&self, version: u64, cancel: &AtomicBool) -> Result<Loaded, CliError> {
+        let t0 = Instant::now();
+        let mut loaded = load_scene_cancellable(&self.path, &self.limits, Fingerprint::None, cancel)?;
+        let scene = &mut loaded.scene;
+        let warnings = std::mem::take(&mut scene.warnings)
+            .iter()
+            .map(|w| format!("{}:{}: {}", w.line, w.column, w.message))
+            .collect();
+        let counts = Counts {
+            primitives: scene.primitive_count(),
+            lights: scene.lights.len(),
+            materials: scene.materials.len(),
+        };
+        let bvh = build_bvh(scene);
+        Ok(Loaded {
+            scene: loaded.scene,
+            bvh,
+            version,
+            counts,
+            warnings,
+            load_s: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// A failed load as the page shows it: the message and, for a parse error, the
+    /// line and column it starts with after the file's name.
+    pub fn failure(&self, e: &CliError) -> SceneEvent {
+        let name = self.path.display().to_string();
+        let at = e
+            .message
+            .strip_prefix(name.as_str())
+            .and_then(|rest| rest.strip_prefix(':'))
+            .and_then(|rest| {
+                let mut parts = rest.splitn(3, ':');
+                let line = parts.next()?.parse().ok()?;
+                let column = parts.next()?.parse().ok()?;
+                Some((line, column))
+            });
+        SceneEvent::Failed {
+            message: e.message.clone(),
+            at,
+        }
+    }
+}
+
+/// The current scene, shared by the sessions.
+pub type Current = Arc<RwLock<Arc<Loaded>>>;
+
+/// Starts watching `source`'s file: each change is loaded on a thread of its own and
+/// broadcast on `events`; a good scene also replaces `current`. The watcher runs as
+/// long as the returned value is kept.
+pub fn watch(
+    source: Arc<Source>,
+    current: Current,
+    events: broadcast::Sender<SceneEvent>,
+) -> Result<notify::RecommendedWatcher, String> {
+    let file_name = source.path.file_name().map(|n| n.to_os_string());
+    let folder = match source.path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = mpsc::channel::<()>();
+    let raise = cancel.clone();
+    let mut watcher = notify::recommended_watcher(move |res: notify::Result<notify::Event>| {
+        let Ok(event) = res else { return };
+        let ours = event.paths.iter().any(|p| p.file_name() == file_name.as_deref());
+        if ours && !matches!(event.kind, EventKind::Access(_)) {
+            raise.store(true, Ordering::Relaxed);
+            let _ = tx.send(());
+        }
+    })
+    .map_err(|e| format!("cannot watch {}: {e}", source.path.display()))?;
+    watcher
+        .watch(&folder, RecursiveMode::NonRecursive)
+        .map_err(|e| format!("cannot watch {}: {e}", folder.display()))?;
+    std::thread::Builder::new()
+        .name("nffrt-view-loader".into())
+        .spawn(move || reload_loop(&source, &current, &events, &rx, &cancel))
+        .map_err(|e| format!("cannot start the loader thread: {e}"))?;
+    Ok(watcher)
+}
+
+/// Waits for changes and loads the file after each burst of them.
+fn reload_loop(
+    source: &Source,
+    current: &Current,
+    events: &broadcast::Sender<SceneEvent>,
+    changes: &mpsc::Receiver<()>,
+    cancel: &AtomicBool,
+) {
+    let mut version = current.read().map(|c| c.version).unwrap_or(0);
+    while changes.recv().is_ok() {
+        while changes.recv_timeout(SETTLE).is_ok() {}
+        cancel.store(false, Ordering::Relaxed);
+        match source.load(version + 1, cancel) {
+            Ok(loaded) => {
+                version += 1;
+                let loaded = Arc::new(loaded);
+                if let Ok(mut c) = current.write() {
+                    *c = loaded.clone();
+                }
+                let _ = events.send(SceneEvent::Loaded(loaded));
+            }
+            // A newer change is queued: it loads next.
+            Err(_) if cancel.load(Ordering::Relaxed) => {}
+            Err(e) => {
+                let _ = events.send(source.failure(&e));
+            }
+        }
+    }
+}

@@ -1,0 +1,314 @@
+//! One page's WebSocket: its requests in, its frames and replies out.
+//!
+//! A single task owns the socket and does all the writing, so messages leave in the
+//! order it decides: a render request bumps the generation, is acknowledged, and
+//! from then on frames of older generations are dropped (the render thread may
+//! still finish one). Ray trees are traced on a blocking thread, one at a time per
+//! session; a second request meanwhile is answered "busy".
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use axum::body::Bytes;
+use axum::extract::ws::{Message, WebSocket};
+use tokio::sync::{broadcast, watch};
+
+use super::camera::{camera_block, render_options, view_of};
+use super::protocol::{
+    encode_binary, parse_client_message, CameraMsg, ClientMessage, OptionsMsg, ServerMessage,
+};
+use super::scene::{Loaded, SceneEvent};
+use super::server::App;
+use super::worker::{Frame, Job, Worker};
+use nffrt::geometry::SourceKind;
+use nffrt::image::encode_png;
+use nffrt::render::debug::{kind_name, trace_pixel};
+use nffrt::scene::{AngleSpan, Dialect};
+
+/// The largest ray-tree reply, in bytes of JSON.
+const MAX_TREE_BYTES: usize = 8 << 20;
+
+/// What the page last asked for.
+#[derive(Clone, Copy)]
+struct Request {
+    camera: CameraMsg,
+    options: OptionsMsg,
+}
+
+/// A session's state, owned by its task.
+struct Session {
+    app: Arc<App>,
+    loaded: Arc<Loaded>,
+    worker: Worker,
+    gen: u64,
+    request: Option<Request>,
+    /// A ray tree being traced.
+    tracing: Option<tokio::task::JoinHandle<ServerMessage>>,
+}
+
+/// Serves one WebSocket until it closes.
+pub async fn run(mut socket: WebSocket, app: Arc<App>) {
+    let (frames_tx, mut frames) = watch::channel::<Option<Arc<Frame>>>(None);
+    let Ok(worker) = Worker::spawn(frames_tx) else {
+        return;
+    };
+    let mut events = app.events.subscribe();
+    let loaded = app.current();
+    let mut s = Session {
+        app,
+        loaded,
+        worker,
+        gen: 0,
+        request: None,
+        tracing: None,
+    };
+    if send_json(&mut socket, &s.scene_message()).await.is_err() {
+        return;
+    }
+    loop {
+        let out = tokio::select! {
+            msg = socket.recv() => match msg {
+                Some(Ok(Message::Text(text))) => s.handle(text.as_str()),
+                Some(Ok(Message::Binary(_))) => vec![error("binary messages are not accepted")],
+                Some(Ok(Message::Ping(_) | Message::Pong(_))) => vec![],
+                Some(Ok(Message::Close(_))) | Some(Err(_)) | None => break,
+            },
+            changed = frames.changed() => {
+                if changed.is_err() {
+                    break;
+                }
+                // Frames of older generations are dropped: the page asked for newer.
+                let frame = frames.borrow_and_update().clone().filter(|f| f.gen >= s.gen);
+                match frame {
+                    Some(f) => vec![Reply::Binary(f.bytes.clone())],
+                    None => vec![],
+                }
+            }
+            event = events.recv() => match event {
+                Ok(SceneEvent::Loaded(loaded)) => s.reloaded(loaded),
+                Ok(SceneEvent::Failed { message, at }) => vec![ServerMessage::LoadError {
+                    message,
+                    line: at.map(|a| a.0),
+                    column: at.map(|a| a.1),
+                }
+                .into()],
+                Err(broadcast::error::RecvError::Lagged(_)) => {
+                    let loaded = s.app.current();
+                    s.reloaded(loaded)
+                }
+                Err(broadcast::error::RecvError::Closed) => break,
+            },
+            traced = async {
+                match s.tracing.as_mut() {
+                    Some(task) => task.await,
+                    None => std::future::pending().await,
+                }
+            } => {
+                s.tracing = None;
+                vec![traced.map_or_else(|_| error("tracing the pixel failed"), Reply::from)]
+            }
+        };
+        for msg in out {
+            let sent = match msg {
+                Reply::Json(m) => send_json(&mut socket, &m).await,
+                Reply::Binary(b) => socket.send(Message::Binary(b)).await,
+            };
+            if sent.is_err() {
+                return;
+            }
+        }
+    }
+}
+
+/// A message to send.
+enum Reply {
+    Json(ServerMessage),
+    Binary(Bytes),
+}
+
+impl From<ServerMessage> for Reply {
+    fn from(m: ServerMessage) -> Reply {
+        Reply::Json(m)
+    }
+}
+
+fn error(message: impl Into<String>) -> Reply {
+    Reply::Json(ServerMessage::Error {
+        message: message.into(),
+    })
+}
+
+async fn send_json(socket: &mut WebSocket, msg: &ServerMessage) -> Result<(), axum::Error> {
+    let text = serde_json::to_string(msg).expect("messages serialize");
+    socket.send(Message::Text(text.into())).await
+}
+
+impl Session {
+    /// Answers one text message from the page.
+    fn handle(&mut self, text: &str) -> Vec<Reply> {
+        match parse_client_message(text) {
+            Err(e) => vec![error(e)],
+            Ok(ClientMessage::Render { camera, options }) => {
+                self.request = Some(Request { camera, options });
+                vec![self.start("request").into()]
+            }
+            Ok(ClientMessage::Pixel { x, y }) => self.pixel(x, y),
+            Ok(ClientMessage::Png) => vec![self.png()],
+        }
+    }
+
+    /// Starts a generation for the current request; its acknowledgement.
+    fn start(&mut self, reason: &'static str) -> ServerMessage {
+        let Some(r) = self.request else {
+            return ServerMessage::Error {
+                message: "nothing to render".into(),
+            };
+        };
+        self.gen += 1;
+        let view = view_of(&self.loaded.scene.view, &r.camera, &r.options);
+        self.worker.submit(Job {
+            gen: self.gen,
+            loaded: self.loaded.clone(),
+            view,
+            opts: render_options(&r.options),
+            start: Instant::now(),
+        });
+        ServerMessage::View {
+            gen: self.gen,
+            reason,
+            camera: r.camera,
+            options: r.options,
+            camera_block: camera_block(&view, self.loaded.scene.dialect),
+        }
+    }
+
+    /// A new scene: tell the page, and render it again with the page's camera, or
+    /// with the file's if the edit moved it.
+    fn reloaded(&mut self, loaded: Arc<Loaded>) -> Vec<Reply> {
+        let (old, new) = (self.loaded.scene.view, loaded.scene.view);
+        self.loaded = loaded;
+        if let Some(r) = self.request.as_mut() {
+            if (old.from, old.at, old.up, old.angle) != (new.from, new.at, new.up, new.angle) {
+                r.camera = CameraMsg::of(&new);
+            }
+            if (old.width, old.height) != (new.width, new.height) {
+                (r.options.width, r.options.height) = (new.width, new.height);
+            }
+        }
+        let mut out = vec![self.scene_message().into()];
+        if self.request.is_some() {
+            out.push(self.start("reload").into());
+        }
+        out
+    }
+
+    /// The scene as the page first sees it.
+    fn scene_message(&self) -> ServerMessage {
+        let l = &self.loaded;
+        let view = &l.scene.view;
+        let spp = self.app.spp.or(l.scene.spp.filter(|&n| n > 0)).unwrap_or(16);
+        ServerMessage::Scene {
+            name: self.app.name.clone(),
+            dialect: match l.scene.dialect {
+                Dialect::Nff => "nff",
+                Dialect::P3f2019 => "p3f2019",
+                Dialect::P3f2025 => "p3f2025",
+            },
+            version: l.version,
+            counts: l.counts.clone(),
+            warnings: l.warnings.clone(),
+            camera: CameraMsg::of(view),
+            options: OptionsMsg {
+                width: view.width.min(super::protocol::MAX_SIDE),
+                height: view.height.min(super::protocol::MAX_SIDE),
+                max_depth: nffrt::render::DEFAULT_MAX_DEPTH,
+                spp: spp.min(super::protocol::MAX_SPP),
+                lens: true,
+                soft_shadows: true,
+            },
+            has_lens: view.aperture > 0.0,
+            has_area_lights: l.scene.lights.iter().any(|l| l.area.is_some()),
+            load_s: l.load_s,
+        }
+    }
+
+    /// Starts tracing pixel `(x, y)` with the current request.
+    fn pixel(&mut self, x: u32, y: u32) -> Vec<Reply> {
+        let Some(r) = self.request else {
+            return vec![error("nothing rendered yet")];
+        };
+        if x >= r.options.width || y >= r.options.height {
+            return vec![error(format!(
+                "pixel ({x}, {y}) is outside the {}x{} picture",
+                r.options.width, r.options.height
+            ))];
+        }
+        if self.tracing.is_some() {
+            return vec![error("busy: a ray tree is being traced")];
+        }
+        let (loaded, gen) = (self.loaded.clone(), self.gen);
+        self.tracing = Some(tokio::task::spawn_blocking(move || {
+            let scene = nffrt::Scene {
+                view: view_of(&loaded.scene.view, &r.camera, &r.options),
+                ..loaded.scene.clone()
+            };
+            let trace = trace_pixel(&scene, &loaded.bvh, &render_options(&r.options), x, y);
+            let Ok(trace) = serde_json::to_value(&trace) else {
+                return ServerMessage::Error {
+                    message: "the ray tree could not be written".into(),
+                };
+            };
+            if trace.to_string().len() > MAX_TREE_BYTES {
+                return ServerMessage::Error {
+                    message: format!(
+                        "the ray tree is larger than {} MiB: lower the depth or the samples",
+                        MAX_TREE_BYTES >> 20
+                    ),
+                };
+            }
+            ServerMessage::RayTree {
+                gen,
+                camera: r.camera,
+                angle_spans_edges: scene.view.angle_span == AngleSpan::ImageEdges,
+                kinds: kinds(scene.dialect),
+                trace,
+            }
+        }));
+        vec![]
+    }
+
+    /// The current generation's full-resolution picture as a PNG file (exactly
+    /// `nffrt render`'s once converged).
+    fn png(&self) -> Reply {
+        let picture = self.worker.shown.picture.lock().ok().and_then(|p| p.clone());
+        let Some((gen, image, complete)) = picture.filter(|p| p.0 == self.gen) else {
+            return error("no full-resolution picture yet");
+        };
+        let mut png = Vec::new();
+        if encode_png(&image, &[("Software", "nffrt".to_string())], &mut png).is_err() {
+            return error("the picture could not be encoded");
+        }
+        let header = serde_json::json!({ "kind": "png", "gen": gen, "complete": complete });
+        Reply::Binary(encode_binary(&header, &png).into())
+    }
+}
+
+/// Each primitive kind's printed name in `dialect`, keyed by its JSON name.
+fn kinds(dialect: Dialect) -> serde_json::Value {
+    let all = [
+        SourceKind::Sphere,
+        SourceKind::Polygon,
+        SourceKind::Patch,
+        SourceKind::Cone,
+        SourceKind::Plane,
+        SourceKind::Box,
+        SourceKind::Mesh,
+    ];
+    let map = all.iter().map(|&k| {
+        let key = serde_json::to_value(k)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from));
+        (key.unwrap_or_default(), kind_name(k, dialect).into())
+    });
+    serde_json::Value::Object(map.collect())
+}

@@ -1,0 +1,294 @@
+//! A session's renderer: a thread that takes the latest request and turns it into a
+//! sequence of frames, coarse to converged.
+//!
+//! For each request (a *generation*): previews at strides 8, 4, 2 (fewer for small
+//! pictures; [`first_stride`]), then the full picture sample by sample
+//! ([`Accumulator`]: 1, 1, 2, 4, ... samples per pass), each pass streaming its
+//! finished rows over the last picture at most every [`ROW_FRAME_INTERVAL`]. A newer
+//! request cancels the work between two rows; only the latest request waits, so
+//! the queue holds one job at most. Frames go out through a `watch` channel, which
+//! keeps only the newest: a slow socket skips frames instead of queueing them.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+use axum::body::Bytes;
+use tokio::sync::watch;
+
+use super::protocol::{encode_binary, FrameHeader};
+use super::scene::Loaded;
+use nffrt::image::Image;
+use nffrt::math::Vec3;
+use nffrt::render::{render_preview, Accumulator, Observer, RenderOptions};
+use nffrt::scene::View;
+
+/// The most pixels the first, coarsest preview has.
+const FIRST_PREVIEW_PIXELS: u64 = 8192;
+/// The least time between two frames streamed from one pass's rows.
+const ROW_FRAME_INTERVAL: Duration = Duration::from_millis(100);
+/// A generation number no request has: the session is over.
+const CLOSED: u64 = u64::MAX;
+
+/// One request: render `view` with `opts` on `loaded`.
+pub struct Job {
+    /// The generation.
+    pub gen: u64,
+    /// The scene.
+    pub loaded: Arc<Loaded>,
+    /// The camera (the scene's own view with the request's position and angle).
+    pub view: View,
+    /// The settings.
+    pub opts: RenderOptions,
+    /// When the request arrived.
+    pub start: Instant,
+}
+
+/// A picture ready to send: its generation and the binary message.
+pub struct Frame {
+    /// The generation.
+    pub gen: u64,
+    /// The encoded message ([`encode_binary`]), shared without copying.
+    pub bytes: Bytes,
+}
+
+/// The latest full-resolution picture (for "save PNG").
+#[derive(Default)]
+pub struct Shown {
+    /// Generation and linear image, and whether it is converged.
+    pub picture: Mutex<Option<(u64, Arc<Image>, bool)>>,
+}
+
+/// A session's render thread.
+pub struct Worker {
+    slot: Arc<(Mutex<Option<Job>>, Condvar)>,
+    latest: Arc<AtomicU64>,
+    /// Its latest picture.
+    pub shown: Arc<Shown>,
+}
+
+impl Worker {
+    /// Starts the thread; frames go to `frames`.
+    pub fn spawn(frames: watch::Sender<Option<Arc<Frame>>>) -> std::io::Result<Worker> {
+        let slot = Arc::new((Mutex::new(None::<Job>), Condvar::new()));
+        let latest = Arc::new(AtomicU64::new(0));
+        let shown = Arc::new(Shown::default());
+        let (s, l, sh) = (slot.clone(), latest.clone(), shown.clone());
+        std::thread::Builder::new()
+            .name("nffrt-view-render".into())
+            .spawn(move || {
+                while let Some(job) = next_job(&s, &l) {
+                    run(&job, &l, &frames, &sh);
+                }
+            })?;
+        Ok(Worker { slot, latest, shown })
+    }
+
+    /// Replaces any waiting request with `job` and cancels the running one.
+    pub fn submit(&self, job: Job) {
+        self.latest.store(job.gen, Ordering::SeqCst);
+        let (lock, ready) = &*self.slot;
+        if let Ok(mut slot) = lock.lock() {
+            *slot = Some(job);
+        }
+        ready.notify_one();
+    }
+}
+
+impl Drop for Worker {
+    /// Cancels the work and ends the thread.
+    fn drop(&mut self) {
+        self.latest.store(CLOSED, Ordering::SeqCst);
+        let (lock, ready) = &*self.slot;
+        if let Ok(mut slot) = lock.lock() {
+            *slot = None;
+        }
+        ready.notify_one();
+    }
+}
+
+/// Waits for a job; `None` once the session is closed.
+fn next_job(slot: &(Mutex<Option<Job>>, Condvar), latest: &AtomicU64) -> Option<Job> {
+    let (lock, ready) = slot;
+    let mut guard = lock.lock().ok()?;
+    loop {
+        if latest.load(Ordering::SeqCst) == CLOSED {
+            return None;
+        }
+        if let Some(job) = guard.take() {
+            return Some(job);
+        }
+        guard = ready.wait(guard).ok()?;
+    }
+}
+
+/// The coarsest preview's stride: a power of two that keeps it within
+/// [`FIRST_PREVIEW_PIXELS`] (1: the picture is small enough to start at full size).
+pub fn first_stride(width: u32, height: u32) -> u32 {
+    let mut stride = 1u32;
+    while (width as u64 * height as u64) / (stride as u64 * stride as u64) > FIRST_PREVIEW_PIXELS {
+        stride *= 2;
+    }
+    stride
+}
+
+/// Watches one generation: cancelled once a newer one is asked for; counts rays;
+/// streams finished rows of a pass into `display` and out as frames.
+struct Watch<'a> {
+    job: &'a Job,
+    latest: &'a AtomicU64,
+    rays: &'a AtomicU64,
+    frames: &'a watch::Sender<Option<Arc<Frame>>>,
+    /// The picture being shown (8-bit RGB, full size) and when it last went out.
+    display: Option<&'a Mutex<(Vec<u8>, Instant)>>,
+    samples: u32,
+}
+
+impl Observer for Watch<'_> {
+    fn row_done(&self, rays: u64) {
+        self.rays.fetch_add(rays, Ordering::Relaxed);
+    }
+
+    fn row_pixels(&self, y: u32, pixels: &[Vec3]) {
+        let Some(display) = self.display else { return };
+        let Ok(mut d) = display.lock() else { return };
+        let w = self.job.opts.width as usize;
+        let row = &mut d.0[3 * w * y as usize..3 * w * (y as usize + 1)];
+        for (out, p) in row.chunks_exact_mut(3).zip(pixels) {
+            out.copy_from_slice(&rgb8(*p));
+        }
+        if d.1.elapsed() >= ROW_FRAME_INTERVAL && !self.cancelled() {
+            d.1 = Instant::now();
+            let frame = frame(self.job, self.rays, 1, self.samples, false, &d.0);
+            self.frames.send_replace(Some(frame));
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        self.latest.load(Ordering::Relaxed) != self.job.gen
+    }
+}
+
+fn rgb8(p: Vec3) -> [u8; 3] {
+    use nffrt::image::quantize;
+    [quantize(p.x), quantize(p.y), quantize(p.z)]
+}
+
+/// A frame of `job` whose payload is `rgb` (one pixel per `stride` block).
+fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool, rgb: &[u8]) -> Arc<Frame> {
+    let header = FrameHeader {
+        kind: "frame",
+        gen: job.gen,
+        width: job.opts.width,
+        height: job.opts.height,
+        stride,
+        samples,
+        target: job.opts.sampling.samples_per_pixel(),
+        rays: rays.load(Ordering::Relaxed),
+        ms: job.start.elapsed().as_secs_f64() * 1e3,
+        complete,
+    };
+    Arc::new(Frame {
+        gen: job.gen,
+        bytes: encode_binary(&header, rgb).into(),
+    })
+}
+
+/// Renders one generation until it converges or a newer one cancels it.
+fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>, shown: &Shown) {
+    let scene = nffrt::Scene {
+        view: job.view,
+        ..job.loaded.scene.clone()
+    };
+    let bvh = &job.loaded.bvh;
+    let opts = &job.opts;
+    let rays = AtomicU64::new(0);
+    let mut watch = Watch {
+        job,
+        latest,
+        rays: &rays,
+        frames,
+        display: None,
+        samples: 0,
+    };
+    let (w, h) = (opts.width as usize, opts.height as usize);
+    let mut display = vec![0u8; 3 * w * h];
+    let mut stride = first_stride(opts.width, opts.height);
+    while stride > 1 {
+        let Some((image, _)) = render_preview(&scene, bvh, opts, stride, &watch) else {
+            return;
+        };
+        let rgb = image.to_rgb8();
+        frames.send_replace(Some(frame(job, &rays, stride, 0, false, &rgb)));
+        upscale(&rgb, image.width as usize, stride as usize, w, &mut display);
+        stride /= 2;
+    }
+    let Some(mut acc) = Accumulator::new(opts) else {
+        return;
+    };
+    let display = Mutex::new((display, Instant::now()));
+    while !acc.is_complete() {
+        watch.display = Some(&display);
+        watch.samples = acc.samples_done();
+        let count = acc.samples_done().max(1);
+        if acc.pass(&scene, bvh, count, &watch).is_none() {
+            return;
+        }
+        let image = Arc::new(acc.image());
+        let rgb = image.to_rgb8();
+        if let Ok(mut s) = shown.picture.lock() {
+            *s = Some((job.gen, image, acc.is_complete()));
+        }
+        if watch.cancelled() {
+            return;
+        }
+        frames.send_replace(Some(frame(
+            job,
+            &rays,
+            1,
+            acc.samples_done(),
+            acc.is_complete(),
+            &rgb,
+        )));
+        if let Ok(mut d) = display.lock() {
+            d.0 = rgb;
+            d.1 = Instant::now();
+        }
+    }
+}
+
+/// Spreads a preview (`cols` pixels a row, each for a `stride` block) over the
+/// full-size `display` (`width` pixels a row), block by block.
+fn upscale(rgb: &[u8], cols: usize, stride: usize, width: usize, display: &mut [u8]) {
+    for (y, row) in display.chunks_exact_mut(3 * width).enumerate() {
+        let src = &rgb[3 * cols * (y / stride)..];
+        for (x, px) in row.chunks_exact_mut(3).enumerate() {
+            px.copy_from_slice(&src[3 * (x / stride)..3 * (x / stride) + 3]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_preview_stays_small() {
+        assert_eq!(first_stride(12, 9), 1);
+        assert_eq!(first_stride(90, 90), 1);
+        assert_eq!(first_stride(512, 512), 8);
+        assert_eq!(first_stride(800, 600), 8);
+        assert_eq!(first_stride(1920, 1080), 16);
+        assert_eq!(first_stride(4096, 4096), 64);
+    }
+
+    #[test]
+    fn previews_spread_over_their_blocks() {
+        // A 2x2 preview of a 3x3 picture at stride 2.
+        let rgb = [1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4];
+        let mut display = vec![0u8; 27];
+        upscale(&rgb, 2, 2, 3, &mut display);
+        let firsts: Vec<u8> = display.chunks(3).map(|p| p[0]).collect();
+        assert_eq!(firsts, [1, 1, 2, 1, 1, 2, 3, 3, 4]);
+    }
+}

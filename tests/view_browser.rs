@@ -1,0 +1,323 @@
+//! `nffrt view` in a real browser: headless Chromium driven by chromedriver over the
+//! WebDriver protocol (plain HTTP and JSON, spoken here directly). The page opens,
+//! shows its first full frame, orbits on a drag, shows the ray tree of a clicked
+//! pixel naming the sphere's line, and renders the scene again when the file
+//! changes. Every wait is on a signal the page gives (its `data-*` attributes,
+//! watched with a MutationObserver), with a generous deadline; screenshots go to
+//! `target/view-browser/`.
+//!
+//! Skipped, saying so, when `chromedriver` is not installed; `.ci/run` installs it
+//! and sets `NFFRT_BROWSER_TEST=require`, which turns the skip into a failure.
+
+mod view_client;
+
+use std::io::{Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+use view_client::Server;
+
+/// The scene: a floor, three spheres; the red one, on line 14, is at the look-at
+/// point, so the centre pixel shows it from any orbit.
+const SCENE: &str = "v\nfrom 0 -8 3\nat 0 0 1\nup 0 0 1\nangle 40\nhither 1\nresolution 320 240\n\
+b 0.2 0.3 0.5\nl -5 -5 10\nl 5 -3 8\nf 0.8 0.8 0.8 0.7 0.3 20 0 1\n\
+p 4 -6 -6 0 6 -6 0 6 6 0 -6 6 0\nf 0.9 0.3 0.2 0.7 0.3 30 0 1\ns 0 0 1 1\n\
+f 0.2 0.5 0.9 0.6 0.4 40 0 1\ns 2 1 0.7 0.7\nf 1 1 1 0.1 0.1 50 0.9 1.5\ns -2 0.5 0.8 0.8\n";
+
+const ELEMENT: &str = "element-6066-11e4-a52e-4f735466cecf";
+
+fn find_on_path(program: &str) -> Option<PathBuf> {
+    std::env::var_os("PATH")?
+        .to_str()?
+        .split(':')
+        .map(|dir| Path::new(dir).join(program))
+        .find(|p| p.is_file())
+}
+
+/// A chromedriver process and one browser session, both ended when dropped.
+struct Browser {
+    driver: Child,
+    port: u16,
+    session: String,
+}
+
+impl Browser {
+    fn start(driver: &Path, profile: &Path) -> Browser {
+        let port = TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let driver = Command::new(driver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver starts");
+        let mut b = Browser {
+            driver,
+            port,
+            session: String::new(),
+        };
+        // Ready when /status answers ready (the only wait here without an event to
+        // listen for: the process gives no other signal).
+        let t0 = Instant::now();
+        while b
+            .call("GET", "/status", None)
+            .ok()
+            .map(|v| v["value"]["ready"] == true)
+            != Some(true)
+        {
+            assert!(
+                t0.elapsed() < view_client::PATIENCE,
+                "chromedriver did not become ready"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let chromium = find_on_path("chromium").or_else(|| find_on_path("chromium-browser"));
+        let mut options = json!({"args": [
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            "--window-size=1280,900", format!("--user-data-dir={}", profile.display()),
+        ]});
+        if let Some(c) = chromium {
+            options["binary"] = json!(c);
+        }
+        let caps = json!({"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": options}}});
+        let r = b.call("POST", "/session", Some(caps)).expect("a browser session");
+        b.session = r["value"]["sessionId"]
+            .as_str()
+            .expect("a session id")
+            .to_string();
+        b.cmd(
+            "POST",
+            "timeouts",
+            json!({"script": view_client::PATIENCE.as_millis() as u64}),
+        );
+        b
+    }
+
+    /// One WebDriver call: the response's JSON.
+    fn call(&self, method: &str, path: &str, body: Option<Value>) -> std::io::Result<Value> {
+        let mut s = TcpStream::connect(("127.0.0.1", self.port))?;
+        s.set_read_timeout(Some(view_client::PATIENCE * 2))?;
+        let body = body.map(|b| b.to_string()).unwrap_or_default();
+        write!(
+            s,
+            "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            self.port,
+            body.len()
+        )?;
+        // The body's length is in the header (chromedriver may keep the connection).
+        let mut response = Vec::new();
+        let mut buf = [0u8; 65536];
+        let (start, length) = loop {
+            let n = s.read(&mut buf)?;
+            if n == 0 {
+                return Err(std::io::Error::other("closed before the header ended"));
+            }
+            response.extend_from_slice(&buf[..n]);
+            if let Some(i) = response.windows(4).position(|w| w == b"\r\n\r\n") {
+                let head = String::from_utf8_lossy(&response[..i]).to_ascii_lowercase();
+                let length = head
+                    .lines()
+                    .find_map(|l| l.strip_prefix("content-length:"))
+                    .and_then(|v| v.trim().parse::<usize>().ok())
+                    .ok_or_else(|| std::io::Error::other("no content-length"))?;
+                break (i + 4, length);
+            }
+        };
+        while response.len() < start + length {
+            let n = s.read(&mut buf)?;
+            if n == 0 {
+                break;
+            }
+            response.extend_from_slice(&buf[..n]);
+        }
+        serde_json::from_slice(&response[start..]).map_err(std::io::Error::other)
+    }
+
+    /// A call on the session; fails the test on a WebDriver error.
+    fn cmd(&self, method: &str, path: &str, body: Value) -> Value {
+        let path = format!("/session/{}/{path}", self.session);
+        let body = (method == "POST").then_some(body);
+        let r = self.call(method, &path, body).expect("chromedriver answers");
+        assert!(r["value"]["error"].is_null(), "{path}: {r}");
+        r["value"].clone()
+    }
+
+    fn run(&self, script: &str) -> Value {
+        self.cmd("POST", "execute/sync", json!({"script": script, "args": []}))
+    }
+
+    /// Waits until `condition` (a JavaScript expression) holds, re-checking on every
+    /// change to the page.
+    fn wait_for(&self, condition: &str) {
+        let script = format!(
+            "const done = arguments[arguments.length - 1];\n\
+             const check = () => {{ try {{ if ({condition}) {{ done(true); return true; }} }} catch (e) {{}} return false; }};\n\
+             if (!check()) {{ const o = new MutationObserver(() => {{ if (check()) o.disconnect(); }});\n\
+               o.observe(document.body, {{ attributes: true, childList: true, subtree: true, characterData: true }}); }}"
+        );
+        self.cmd("POST", "execute/async", json!({"script": script, "args": []}));
+    }
+
+    fn screenshot(&self, path: &Path) {
+        let data = self.cmd("GET", "screenshot", Value::Null);
+        std::fs::write(path, base64_decode(data.as_str().expect("base64"))).unwrap();
+    }
+
+    /// Pointer actions on the picture: from its centre, `moves` steps of (dx, dy).
+    fn pointer_on_picture(&self, moves: &[(i64, i64)]) {
+        let picture = self.cmd(
+            "POST",
+            "element",
+            json!({"using": "css selector", "value": "#picture"}),
+        );
+        let mut actions = vec![
+            json!({"type": "pointerMove", "duration": 0, "origin": {ELEMENT: picture[ELEMENT]}, "x": 0, "y": 0}),
+            json!({"type": "pointerDown", "button": 0}),
+        ];
+        for (dx, dy) in moves {
+            actions
+                .push(json!({"type": "pointerMove", "duration": 100, "origin": "pointer", "x": dx, "y": dy}));
+        }
+        actions.push(json!({"type": "pointerUp", "button": 0}));
+        let body = json!({"actions": [{"type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"}, "actions": actions}]});
+        self.cmd("POST", "actions", body);
+    }
+
+    /// A checksum of the picture's pixels, and the generation drawn.
+    fn picture(&self) -> (u64, u64) {
+        let v = self.run(
+            "const c = document.getElementById('picture');\n\
+             const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;\n\
+             let h = 0; for (let i = 0; i < d.length; i++) h = (h * 31 + d[i]) >>> 0;\n\
+             return [h, Number(document.body.dataset.gen)];",
+        );
+        (v[0].as_u64().unwrap(), v[1].as_u64().unwrap())
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        if !self.session.is_empty() {
+            let _ = self.call("DELETE", &format!("/session/{}", self.session), None);
+        }
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+/// Standard base64 (the screenshot's encoding), without a crate for it.
+fn base64_decode(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        _ => 63,
+    };
+    let digits: Vec<u8> = text
+        .bytes()
+        .filter(|c| c.is_ascii_alphanumeric() || *c == b'+' || *c == b'/')
+        .map(value)
+        .collect();
+    digits
+        .chunks(4)
+        .flat_map(|q| {
+            let n = q
+                .iter()
+                .enumerate()
+                .fold(0u32, |n, (i, &d)| n | (d as u32) << (18 - 6 * i));
+            let bytes = n.to_be_bytes();
+            bytes[1..q.len()].to_vec()
+        })
+        .collect()
+}
+
+#[test]
+fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
+    let Some(driver) = find_on_path("chromedriver") else {
+        assert!(
+            std::env::var("NFFRT_BROWSER_TEST").as_deref() != Ok("require"),
+            "NFFRT_BROWSER_TEST=require but chromedriver is not on PATH"
+        );
+        eprintln!("note: chromedriver is not installed; the browser test is skipped (apt-get install chromium chromium-driver)");
+        return;
+    };
+    let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let shots = target.join("view-browser");
+    let work =
+        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("view-browser-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(&shots).unwrap();
+    std::fs::create_dir_all(work.join("profile")).unwrap();
+    let file = work.join("spheres.nff");
+    std::fs::write(&file, SCENE).unwrap();
+    let server = Server::start(&file, &["--spp", "4"]);
+    let browser = Browser::start(&driver, &work.join("profile"));
+    browser.cmd("POST", "url", json!({"url": server.url}));
+
+    // The first full frame, then the converged one.
+    browser.wait_for("Number(document.body.dataset.fullFrames) >= 1");
+    browser.wait_for("document.body.dataset.complete === 'true'");
+    browser.screenshot(&shots.join("1-converged.png"));
+    let (before, gen) = browser.picture();
+
+    // Drag to orbit: new generations, coarse frames while moving, a new picture.
+    browser.pointer_on_picture(&[(30, 0), (30, 0), (30, 10), (30, 10)]);
+    browser.wait_for(&format!(
+        "Number(document.body.dataset.gen) > {gen} && document.body.dataset.complete === 'true'"
+    ));
+    let (after, gen) = browser.picture();
+    assert_ne!(before, after, "the picture changed with the orbit");
+    browser.screenshot(&shots.join("2-orbited.png"));
+
+    // Click the centre: the red sphere of line 14.
+    browser.pointer_on_picture(&[]);
+    browser.wait_for("Number(document.body.dataset.trees) >= 1");
+    let tree = browser.run("return document.getElementById('tree').innerText;");
+    let tree = tree.as_str().unwrap();
+    assert!(tree.contains("hit sphere (s) at line 14"), "{tree}");
+    assert!(tree.contains("light 1"), "{tree}");
+    // The rays are drawn over the picture.
+    let drawn = browser.run(
+        "try { drawRays(); } catch (e) { return String(e.stack); }\n\
+         const o = document.getElementById('overlay');\n\
+         const d = o.getContext('2d').getImageData(0, 0, o.width, o.height).data;\n\
+         let n = 0; for (let i = 3; i < d.length; i += 4) n += d[i] > 0; return n;",
+    );
+    assert!(
+        drawn.as_u64().is_some_and(|n| n > 20),
+        "rays over the picture: {drawn}"
+    );
+    browser.screenshot(&shots.join("3-ray-tree.png"));
+
+    // The file changes: the page shows the new picture.
+    std::fs::write(&file, SCENE.replace("f 0.9 0.3 0.2", "f 0.2 0.9 0.3")).unwrap();
+    browser.wait_for(&format!(
+        "document.body.dataset.version === '1' && Number(document.body.dataset.gen) > {gen} \
+         && document.body.dataset.complete === 'true'"
+    ));
+    let (edited, gen) = browser.picture();
+    assert_ne!(edited, after, "the edit shows");
+    browser.screenshot(&shots.join("4-reloaded.png"));
+
+    // A broken file: the error, located; the picture stays.
+    std::fs::write(&file, SCENE.replace("s 0 0 1 1", "s 0 0 1")).unwrap();
+    browser.wait_for("document.body.dataset.loadError !== undefined");
+    let banner = browser.run("return document.getElementById('load-error').innerText;");
+    let expected = format!("{}:15:1: ", file.display());
+    assert!(banner.as_str().unwrap().starts_with(&expected), "{banner}");
+    assert_eq!(browser.picture(), (edited, gen), "the last good picture stays");
+    browser.screenshot(&shots.join("5-load-error.png"));
+    eprintln!("screenshots in {}", shots.display());
+}

@@ -1,0 +1,306 @@
+//! A client of `nffrt view` for the tests and the latency benchmark: starts the
+//! server on a free port, speaks raw HTTP/1.1 (so that any `Host` or `Origin` can be
+//! sent) and the WebSocket protocol of `src/cli/view/protocol.rs`.
+
+// Each crate that includes this module uses a different subset of it.
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+use tungstenite::client::IntoClientRequest;
+use tungstenite::http::HeaderValue;
+use tungstenite::stream::MaybeTlsStream;
+use tungstenite::{Message, WebSocket};
+
+/// How long any single wait may take before a test fails (generous: the machine is
+/// shared and builds run beside the tests).
+pub const PATIENCE: Duration = Duration::from_secs(120);
+
+/// A running `nffrt view`, stopped when dropped.
+pub struct Server {
+    child: Child,
+    /// Its port.
+    pub port: u16,
+    /// Its access token.
+    pub token: String,
+    /// The URL it printed.
+    pub url: String,
+}
+
+impl Server {
+    /// Starts `nffrt view SCENE --no-open --port 0 EXTRA...` and reads its URL.
+    pub fn start(scene: &Path, extra: &[&str]) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
+            .arg("view")
+            .arg(scene)
+            .args(["--no-open", "--port", "0"])
+            .args(extra)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("nffrt starts");
+        let stdout = child.stdout.take().expect("piped stdout");
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut line = String::new();
+            let _ = BufReader::new(stdout).read_line(&mut line);
+            let _ = tx.send(line);
+        });
+        let line = rx.recv_timeout(PATIENCE).expect("nffrt view prints its URL");
+        let url = line
+            .trim()
+            .strip_prefix("serving ")
+            .unwrap_or_else(|| panic!("unexpected first line {line:?}"))
+            .to_string();
+        let rest = url.strip_prefix("http://127.0.0.1:").expect("a loopback URL");
+        let (port, token) = rest.split_once("/?token=").expect("a token in the URL");
+        Server {
+            child,
+            port: port.parse().expect("a port"),
+            token: token.to_string(),
+            url,
+        }
+    }
+
+    /// The server's `Host` header value.
+    pub fn host(&self) -> String {
+        format!("127.0.0.1:{}", self.port)
+    }
+
+    /// True while the process runs.
+    pub fn alive(&mut self) -> bool {
+        self.child.try_wait().expect("process state").is_none()
+    }
+
+    /// Sends SIGINT (Ctrl-C) to the server and waits for it to exit: its exit code.
+    #[cfg(unix)]
+    pub fn interrupt(&mut self) -> Option<i32> {
+        let sent = Command::new("kill")
+            .args(["-INT", &self.child.id().to_string()])
+            .status();
+        assert!(sent.is_ok_and(|s| s.success()), "kill -INT");
+        let t0 = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().expect("process state") {
+                return status.code();
+            }
+            assert!(t0.elapsed() < PATIENCE, "the server did not stop on SIGINT");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// A WebSocket session with the right token, Host and Origin.
+    pub fn connect(&self) -> Client {
+        let origin = format!("http://{}", self.host());
+        self.connect_with(&format!("/ws?token={}", self.token), Some(&origin))
+            .expect("the WebSocket opens")
+    }
+
+    /// A WebSocket to `path_and_query`, with `origin` if any.
+    pub fn connect_with(
+        &self,
+        path_and_query: &str,
+        origin: Option<&str>,
+    ) -> Result<Client, tungstenite::Error> {
+        let mut request = format!("ws://{}{path_and_query}", self.host()).into_client_request()?;
+        if let Some(o) = origin {
+            request
+                .headers_mut()
+                .insert("Origin", HeaderValue::from_str(o).unwrap());
+        }
+        let stream = TcpStream::connect(("127.0.0.1", self.port)).expect("connect");
+        stream.set_read_timeout(Some(PATIENCE)).unwrap();
+        let (socket, _) =
+            tungstenite::client(request, MaybeTlsStream::Plain(stream)).map_err(|e| match e {
+                tungstenite::HandshakeError::Failure(e) => e,
+                tungstenite::HandshakeError::Interrupted(_) => panic!("blocking handshake interrupted"),
+            })?;
+        Ok(Client { socket })
+    }
+
+    /// `GET path_and_query` with these headers (`Host` defaults to the server's):
+    /// the status code and the body.
+    pub fn get(&self, path_and_query: &str, headers: &[(&str, &str)]) -> (u16, Vec<u8>) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).expect("connect");
+        stream.set_read_timeout(Some(PATIENCE)).unwrap();
+        let mut request = format!("GET {path_and_query} HTTP/1.1\r\nConnection: close\r\n");
+        if !headers.iter().any(|(k, _)| k.eq_ignore_ascii_case("host")) {
+            request += &format!("Host: {}\r\n", self.host());
+        }
+        for (k, v) in headers {
+            request += &format!("{k}: {v}\r\n");
+        }
+        request += "\r\n";
+        stream.write_all(request.as_bytes()).expect("send");
+        let mut response = Vec::new();
+        stream.read_to_end(&mut response).expect("read");
+        let end = response
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .expect("a header");
+        let head = String::from_utf8_lossy(&response[..end]).to_string();
+        let status = head
+            .split(' ')
+            .nth(1)
+            .and_then(|s| s.parse().ok())
+            .expect("a status");
+        (status, response[end + 4..].to_vec())
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A message from the server.
+#[derive(Debug)]
+pub enum Msg {
+    /// A JSON text message.
+    Json(Value),
+    /// A binary message: its JSON header and payload.
+    Binary(Value, Vec<u8>),
+    /// The connection closed.
+    Closed,
+}
+
+/// One WebSocket session.
+pub struct Client {
+    socket: WebSocket<MaybeTlsStream<TcpStream>>,
+}
+
+impl Client {
+    /// Sends a JSON message.
+    pub fn send(&mut self, msg: &Value) {
+        self.send_text(&msg.to_string());
+    }
+
+    /// Sends raw text.
+    pub fn send_text(&mut self, text: &str) {
+        self.socket.send(Message::text(text)).expect("send");
+    }
+
+    /// Sends raw text that the server may refuse by closing the connection while it
+    /// is still being written (a broken pipe or a reset is then no failure).
+    pub fn send_text_to_be_refused(&mut self, text: &str) {
+        use std::io::ErrorKind::{BrokenPipe, ConnectionReset};
+        match self.socket.send(Message::text(text)) {
+            Ok(()) => {}
+            Err(tungstenite::Error::Io(e)) if matches!(e.kind(), BrokenPipe | ConnectionReset) => {}
+            Err(e) => panic!("send: {e}"),
+        }
+    }
+
+    /// The next message (pings and pongs skipped); `Closed` after [`PATIENCE`].
+    pub fn recv(&mut self) -> Msg {
+        loop {
+            match decode(self.socket.read()) {
+                Outcome::Msg(m) => return m,
+                Outcome::TimedOut => return Msg::Closed,
+                Outcome::Skipped => {}
+            }
+        }
+    }
+
+    /// The next message if one arrives within `timeout`.
+    pub fn try_recv(&mut self, timeout: Duration) -> Option<Msg> {
+        self.set_timeout(timeout.max(Duration::from_micros(100)));
+        let read = decode(self.socket.read());
+        self.set_timeout(PATIENCE);
+        match read {
+            Outcome::Msg(m) => Some(m),
+            Outcome::TimedOut | Outcome::Skipped => None,
+        }
+    }
+
+    fn set_timeout(&mut self, timeout: Duration) {
+        if let MaybeTlsStream::Plain(s) = self.socket.get_mut() {
+            s.set_read_timeout(Some(timeout)).unwrap();
+        }
+    }
+
+    /// Reads until a JSON message of type `kind` arrives (failing on a close or
+    /// after [`PATIENCE`]); `seen` gets every message on the way.
+    pub fn until_json(&mut self, kind: &str, mut seen: impl FnMut(&Msg)) -> Value {
+        let t0 = Instant::now();
+        loop {
+            assert!(t0.elapsed() < PATIENCE, "no {kind} message in time");
+            let m = self.recv();
+            seen(&m);
+            match m {
+                Msg::Json(v) if v["type"] == kind => return v,
+                Msg::Closed => panic!("closed while waiting for {kind}"),
+                _ => {}
+            }
+        }
+    }
+
+    /// Reads until the converged frame of generation `gen`; `seen` gets every
+    /// message on the way. Its header and RGB payload.
+    pub fn until_complete(&mut self, gen: u64, mut seen: impl FnMut(&Msg)) -> (Value, Vec<u8>) {
+        let t0 = Instant::now();
+        loop {
+            assert!(
+                t0.elapsed() < PATIENCE,
+                "generation {gen} did not converge in time"
+            );
+            let m = self.recv();
+            seen(&m);
+            match m {
+                Msg::Binary(h, rgb) if h["gen"] == gen && h["complete"] == true => return (h, rgb),
+                Msg::Closed => panic!("closed while waiting for generation {gen}"),
+                _ => {}
+            }
+        }
+    }
+}
+
+/// What one read gave.
+enum Outcome {
+    Msg(Msg),
+    TimedOut,
+    Skipped,
+}
+
+fn decode(read: Result<Message, tungstenite::Error>) -> Outcome {
+    match read {
+        Ok(Message::Text(t)) => Outcome::Msg(Msg::Json(serde_json::from_str(t.as_str()).expect("JSON"))),
+        Ok(Message::Binary(b)) => {
+            let n = u32::from_le_bytes(b[..4].try_into().unwrap()) as usize;
+            let header = serde_json::from_slice(&b[4..4 + n]).expect("a JSON header");
+            Outcome::Msg(Msg::Binary(header, b[4 + n..].to_vec()))
+        }
+        Ok(Message::Close(_)) => Outcome::Msg(Msg::Closed),
+        Ok(_) => Outcome::Skipped,
+        Err(tungstenite::Error::Io(e))
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
+        {
+            Outcome::TimedOut
+        }
+        Err(_) => Outcome::Msg(Msg::Closed),
+    }
+}
+
+/// A render request.
+pub fn render_msg(camera: &Value, width: u32, height: u32, spp: u32) -> Value {
+    serde_json::json!({
+        "type": "render",
+        "camera": camera,
+        "options": {
+            "width": width, "height": height, "max_depth": 5, "spp": spp,
+            "lens": true, "soft_shadows": true
+        }
+    })
+}
