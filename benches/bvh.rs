@@ -11,7 +11,7 @@ use nffrt::geometry::build_geometry;
 use std::hint::black_box;
 
 /// Triangles, spheres, triangles again, and cones (rings: thin oblique cylinders,
-/// filed in the tree in two pieces, `accel::split`).
+/// filed in the tree in two pieces, `accel::build::split`).
 const SCENES: [(SpdScene, u32); 4] = [
     (SpdScene::Tetra, 6),
     (SpdScene::Balls, 4),

@@ -5,6 +5,10 @@
 #
 #   scripts/bench-peers.sh [RUNS]         RUNS repetitions per figure (default 3)
 #   EMBREE_PY=/path/to/python             Python with embreex (default .bench-venv/bin/python)
+#   EMBREE_ISA=avx2                       Embree restricted to one instruction set (its
+#                                         `isa=` device setting, set by scripts/embree_isa.c),
+#                                         e.g. to compare like with like on a CPU with AVX-512
+#                                         (nffrt's kernels are AVX2, picked at run time)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -13,6 +17,17 @@ nffrt=target/release/nffrt
 py=${EMBREE_PY:-../.bench-venv/bin/python}
 [ -x "$nffrt" ] || cargo build --release -q
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+# The CPU every figure below ran on (BENCHMARKS.md names it beside each column).
+cpu=$(awk -F': ' '/^vendor_id/ {v=$2} /^cpu family/ {f=$2} /^model\t/ {m=$2} /^flags/ {a=($2 ~ /avx512f/) ? "AVX-512" : "no AVX-512"; if ($2 !~ /avx2/) a=a ", no AVX2"} END {printf "%s family %s model %s, %s", v, f, m, a}' /proc/cpuinfo)
+l2=$(getconf LEVEL2_CACHE_SIZE 2>/dev/null || echo 0)
+echo "== CPU: $cpu, L2 $((l2 / 1024)) KiB per core, $(nproc) threads; Embree ISA: ${EMBREE_ISA:-its default (the best this CPU has)}"
+# Embree's instruction set pinned (EMBREE_ISA): a preloaded wrapper of rtcNewDevice.
+embree_env=()
+if [ -n "${EMBREE_ISA:-}" ]; then
+    gcc -O2 -shared -fPIC -o "$tmp/embree_isa.so" scripts/embree_isa.c -ldl
+    embree_env=(env EMBREE_ISA="$EMBREE_ISA" LD_PRELOAD="$tmp/embree_isa.so")
+fi
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 wall() { local t0 t1; t0=$(date +%s%N); "$@" >/dev/null 2>&1; t1=$(date +%s%N); awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
@@ -73,7 +88,7 @@ if [ -x "$py" ]; then
     }
     for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
         name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
-        "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" >/dev/null 2>&1
+        "${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" >/dev/null 2>&1
         # Embree's anchor skips mount's four spheres: the same rays against the same
         # geometry, i.e. the scene without them, make the "triangles only" rows (hits
         # then equal Embree's).
@@ -81,11 +96,11 @@ if [ -x "$py" ]; then
         # The two programs alternate, run by run, so that the host's load falls on both.
         # Embree runs twice: with its default scene flags (NONE) and with
         # RTC_SCENE_FLAG_ROBUST, the counterpart of nffrt's box test, whose exits are
-        # stretched against rounding (`accel::wide::FAR_SCALE`).
+        # stretched against rounding (`accel::traverse::wide::FAR_SCALE`).
         e=""; er=""; declare -A n=() t=()
         for _ in $(seq "$runs"); do
-            e+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null)$'\n'
-            er+=$("$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 --robust "${extra[@]}" 2>/dev/null)$'\n'
+            e+=$("${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 "${extra[@]}" 2>/dev/null)$'\n'
+            er+=$("${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 10 --robust "${extra[@]}" 2>/dev/null)$'\n'
             for set in primary random; do
                 n[$set]+=$("$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_$set.f32" --rays-only --repeat 10 | tail -1)$'\n'
                 if [ "$name" = mount_very_high ]; then
@@ -108,8 +123,8 @@ if [ -x "$py" ]; then
         printf '%-18s %10s %10s %10s %14s\n' scene single packet8 nffrt nffrt-packet8
         for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
             name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
-            "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
-            e=$(for _ in $(seq "$runs"); do "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
+            "${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
+            e=$(for _ in $(seq "$runs"); do "${embree_env[@]}" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
             single=$(echo "$e" | tr ' ' '\n' | grep "^single_mrays=" | cut -d= -f2 | median)
             packet=$(echo "$e" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
             n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_primary.f32" --rays-only --repeat 10 | tail -1; done)
@@ -118,4 +133,54 @@ if [ -x "$py" ]; then
             printf '%-18s %10.2f %10.2f %10.2f %14.2f\n' "$name" "$single" "$packet" "$ours" "$ourp"
         done
     fi
+fi
+
+if [ -x "$py" ]; then
+    # Scale against Embree: `nffrt gen mount` without its four spheres (the geometry
+    # Embree's side traces), sizes 5 to 9 (2 048 to 524 288 triangles), the same
+    # primary and random rays through both, one thread, fastest passes.
+    echo "== scale: nffrt gen mount sizes 5 to 9 without its spheres, same rays, 1 thread (Mrays/s and ns per ray, fastest passes, median of $runs; Embree flags NONE)"
+    printf '%-6s %8s | %9s %9s %7s %7s %7s | %9s %9s %7s %7s %7s\n' size tris emb-prim nff-prim ratio emb-ns nff-ns emb-rand nff-rand ratio emb-ns nff-ns
+    key() { tr ' ' '\n' | grep "^$1=" | cut -d= -f2 | median; }
+    declare -A ns=()
+    for size in 5 6 7 8 9; do
+        "$nffrt" gen mount --size "$size" | grep -v '^s ' >"$tmp/mount$size.nff"
+        "${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$tmp/mount$size.nff" --repeat 1 --threads 1 --dump-rays "$tmp" >/dev/null 2>&1
+        e=""; declare -A n=()
+        for _ in $(seq "$runs"); do
+            e+=$("${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$tmp/mount$size.nff" --repeat 10 --threads 1 --no-occlusion 2>/dev/null | tail -1)$'\n'
+            for set in primary random; do
+                n[$set]+=$("$nffrt" bench "$tmp/mount$size.nff" --rays "$tmp/mount${size}_$set.f32" --rays-only --repeat 10 | tail -1)$'\n'
+            done
+        done
+        tris=$(echo "$e" | key tris)
+        row=()
+        for set in primary random; do
+            eb=$(echo "$e" | key "${set}_mrays"); ob=$(echo "${n[$set]}" | key rays_best_mrays)
+            ns[emb_${set}_$size]=$(awk -v a="$eb" 'BEGIN {printf "%.1f", 1e3 / a}')
+            ns[nff_${set}_$size]=$(awk -v a="$ob" 'BEGIN {printf "%.1f", 1e3 / a}')
+            row+=("$eb" "$ob" "$(awk -v a="$ob" -v b="$eb" 'BEGIN {print a / b}')" "${ns[emb_${set}_$size]}" "${ns[nff_${set}_$size]}")
+        done
+        printf '%-6s %8s | %9.2f %9.2f %7.2f %7s %7s | %9.2f %9.2f %7.2f %7s %7s\n' "$size" "$tris" "${row[@]}"
+        unset n
+    done
+    growth() { awk -v a="${ns[$1_9]}" -v b="${ns[$1_5]}" 'BEGIN {printf "%.2f", a / b}'; }
+    echo "time per ray, size 5 -> 9: primary Embree x$(growth emb_primary), nffrt x$(growth nff_primary); random Embree x$(growth emb_random), nffrt x$(growth nff_random)"
+    echo "(balls sizes 4 to 6, nffrt alone: the scale table above; Embree's side traces triangles only)"
+
+    # Builds of the same 524 288 triangles: Embree's rtcCommitScene (fastest of 5
+    # fresh builds per process) against nffrt's Bvh::new (with the conversion of the
+    # scene into primitives; fastest of 5), one thread and two.
+    echo "== build: mount size 9 without its spheres (524 288 triangles), ms, median over $runs processes of the fastest of 5 builds"
+    printf '%-8s %10s %10s %7s\n' threads embree nffrt ratio
+    for threads in 1 2; do
+        e=""; o=""
+        for _ in $(seq "$runs"); do
+            e+=$("${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$tmp/mount9.nff" --repeat 5 --threads "$threads" --rays primary --no-occlusion 2>/dev/null | tail -1)$'\n'
+            o+=$("$nffrt" bench "$tmp/mount9.nff" --rays "$tmp/mount9_primary.f32" --rays-only --repeat 5 --threads "$threads" | tail -1)$'\n'
+        done
+        eb=$(echo "$e" | key build_ms); ob=$(echo "$o" | key build_best_ms)
+        printf '%-8s %10.1f %10.1f %7.2f\n' "$threads" "$eb" "$ob" "$(awk -v a="$eb" -v b="$ob" 'BEGIN {print a / b}')"
+    done
+    echo "(ratio: Embree's time over nffrt's; above 1, nffrt builds faster)"
 fi

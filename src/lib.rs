@@ -24,7 +24,7 @@
 //! ```
 
 #![warn(missing_docs)]
-// No `unsafe` but in `accel::avx`, the run-time-selected AVX traversal kernels (7 % off
+// No `unsafe` but in `accel::traverse::avx`, the run-time-selected AVX traversal kernels (7 % off
 // whole renders, measured in BENCHMARKS.md), which allows it for itself alone.
 #![deny(unsafe_code)]
 

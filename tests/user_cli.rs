@@ -231,6 +231,7 @@ fn bench_reports_every_key_and_the_hand_counted_hits() {
     };
     for key in [
         "build_ms",
+        "build_best_ms",
         "sah_cost",
         "primary_mrays",
         "primary_occl_mrays",

@@ -12,8 +12,13 @@ from helpers import REPO
 
 @pytest.fixture(scope="session")
 def nffrt_bin() -> str:
-    """The nffrt binary: $NFFRT_BIN, else target/release/nffrt, else one on PATH."""
-    candidates = [os.environ.get("NFFRT_BIN"), str(REPO / "target" / "release" / "nffrt")]
+    """The nffrt binary: $NFFRT_BIN, else target/release/nffrt or
+    target/test-release/nffrt, else one on PATH."""
+    candidates = [
+        os.environ.get("NFFRT_BIN"),
+        str(REPO / "target" / "release" / "nffrt"),
+        str(REPO / "target" / "test-release" / "nffrt"),
+    ]
     for c in candidates:
         if c and os.access(c, os.X_OK):
             return c

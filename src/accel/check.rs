@@ -1,11 +1,12 @@
 //! Checks and statistics of a built BVH: the brute-force reference query, structural
 //! validation, shape statistics (with the SAH cost) and bounds.
 
-use super::build::{self, Packs};
-use super::bvh::{marked, pack_of, Bvh, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
-use super::split::Piece;
-use super::tri4::Block;
-use super::wide::WIDTH;
+use super::bvh::Bvh;
+use crate::accel::build::sah::{self, Packs};
+use crate::accel::build::split::Piece;
+use crate::accel::leaf::pack::{marked, pack_of, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
+use crate::accel::leaf::tri4::Block;
+use crate::accel::traverse::wide::WIDTH;
 use crate::geometry::Hit;
 use crate::geometry::{ConeShape, Shape};
 use crate::math::{Aabb, Ray, Vec3};
@@ -31,12 +32,12 @@ pub struct BvhStats {
     /// SAH cost: expected node visits plus primitive tests for a random ray that hits
     /// the root box (traversal and intersection weighted 1 each; a leaf of triangles
     /// counts one test per eight, one of spheres or of cones per four, as they are
-    /// intersected; see `build::leaf_cost`).
+    /// intersected; see `sah::leaf_cost`).
     pub sah_cost: f64,
     /// Bounded primitives in the tree.
     pub primitives: usize,
     /// Leaf entries: the bounded primitives, plus one per extra piece of a split cone
-    /// (`accel::split`).
+    /// (`accel::build::split`).
     pub references: usize,
     /// Unbounded primitives tested beside it.
     pub unbounded: usize,
@@ -236,7 +237,7 @@ impl Bvh {
                 let first = n.first as usize;
                 let leaf = &self.primitives[first..first + n.count as usize];
                 let packs = Packs::of(leaf.iter().map(pack_of));
-                s.sah_cost += rel * build::leaf_cost(n.count, packs) as f64;
+                s.sah_cost += rel * sah::leaf_cost(n.count, packs) as f64;
             } else {
                 s.sah_cost += rel;
             }

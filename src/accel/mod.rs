@@ -2,32 +2,55 @@
 //! the binned surface area heuristic as a binary tree of 32-byte nodes, then
 //! collapsed at the least SAH cost into the 8-wide nodes the queries traverse;
 //! unbounded primitives (planes) are tested beside it.
+//!
+//! Three rooms, one per stage a reader may look for:
+//! - `build/`: the binned SAH builder (`sah`, with its working types in `binning`),
+//!   long cones split into pieces (`split`), the binary nodes (`node`) and their
+//!   collapse into wide ones (`collapse`);
+//! - `leaf/`: the leaf blocks of four triangles, spheres or cones (`tri4`, `sphere4`,
+//!   `cone4`), the eight-lane triangle tests (`ray8`), and how leaves are packed into
+//!   blocks (`pack`);
+//! - `traverse/`: the wide nodes and their slab test (`wide`), the AVX kernels chosen
+//!   at run time (`avx`), the single-ray walks (`single` for the closest hit,
+//!   `occlusion`), the packets (`packet`) and the rule for ties (`nearest`).
+//!
+//! `bvh.rs` holds the structure and puts the stages together; `check.rs` validates it
+//! and measures it.
 
-#[cfg(target_arch = "x86_64")]
-mod avx;
-mod binning;
+/// Traversal counters (feature `counters`): wide nodes visited, primitives tested.
+#[cfg(feature = "counters")]
+pub mod counters {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    /// Wide nodes visited.
+    pub static NODES: AtomicU64 = AtomicU64::new(0);
+    /// Primitive intersection tests.
+    pub static PRIMS: AtomicU64 = AtomicU64::new(0);
+    /// Adds to a counter.
+    #[inline(always)]
+    pub fn add(c: &AtomicU64, n: u64) {
+        c.fetch_add(n, Ordering::Relaxed);
+    }
+}
+
+macro_rules! count {
+    ($c:ident, $n:expr) => {
+        #[cfg(feature = "counters")]
+        $crate::accel::counters::add(&$crate::accel::counters::$c, $n as u64);
+    };
+}
+
 mod build;
 mod bvh;
 mod check;
-mod collapse;
-mod cone4;
-mod nearest;
-mod node;
-mod packet;
-mod ray8;
-mod sphere4;
-mod split;
-mod tri4;
-mod wide;
+mod leaf;
+mod traverse;
 
-#[cfg(feature = "counters")]
-pub use bvh::counters;
+pub use build::node::BvhNode;
 pub use bvh::Bvh;
-pub use bvh::NO_HINT;
 pub use check::BvhStats;
-pub use node::BvhNode;
-pub use packet::PACKET;
-pub use wide::Node8;
+pub use traverse::occlusion::NO_HINT;
+pub use traverse::packet::PACKET;
+pub use traverse::wide::Node8;
 
 #[cfg(test)]
 mod tests;

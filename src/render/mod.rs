@@ -168,12 +168,24 @@ pub fn render_region(
         }
         Sampling::Stratified { .. } | Sampling::Independent { .. } => {
             let sampler = opts.sampling.pixel_sampler(camera.has_lens());
+            let (n, weight) = (sampler.count(), 1.0 / sampler.count() as f32);
             trace_rows(y0, w, h, observer, true, |y, st, out| {
-                for x in x0..x0 + w as u32 {
-                    out.push(pixel_mean(&sampler, x, y, |sample, id| {
-                        tracer.trace_eye(&camera.ray(&sample), &id, st)
-                    }));
+                // Sample k of every pixel of the row, traced in packets: each pixel
+                // adds its samples in sample order, as `pixel_mean` does, so the sums
+                // are the very same.
+                let mut sums = vec![Vec3::ZERO; w];
+                let (mut rays, mut ids) = (Vec::with_capacity(w), Vec::with_capacity(w));
+                for k in 0..n {
+                    rays.clear();
+                    ids.clear();
+                    for x in x0..x0 + w as u32 {
+                        let (sample, id) = sampler.sample(x, y, k);
+                        rays.push(camera.ray(&sample));
+                        ids.push(id);
+                    }
+                    tracer.trace_eyes(&rays, &ids, st, |i, c| sums[i] += c * weight);
                 }
+                out.extend(sums);
             })
         }
         Sampling::SpdCorners => {

@@ -209,6 +209,33 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// Eye rays `rays[i]` of samples `ids[i]` (depth 1), [`PACKET`] neighbours traced
+    /// through the BVH together, each then shaded as [`Tracer::trace_eye`] shades it
+    /// (packets find the very hits single rays find, so the colours are the same);
+    /// calls `done(i, colour)` for each in order.
+    pub fn trace_eyes(
+        &self,
+        rays: &[Ray],
+        ids: &[SampleId],
+        stats: &mut Stats,
+        mut done: impl FnMut(usize, Vec3),
+    ) {
+        debug_assert_eq!(rays.len(), ids.len());
+        let mut hits = [None; PACKET];
+        for (c, (packet, ids)) in rays.chunks(PACKET).zip(ids.chunks(PACKET)).enumerate() {
+            let hits = &mut hits[..packet.len()];
+            self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
+            for (i, ((ray, &found), id)) in packet.iter().zip(hits.iter()).zip(ids).enumerate() {
+                stats.eye_rays += 1;
+                let color = match self.lighting.model {
+                    Model::Spd => self.shade::<NoRecord, SpdRules>(ray, 1, found, id, stats, &mut NoRecord),
+                    Model::P3f => self.shade::<NoRecord, P3fRules>(ray, 1, found, id, stats, &mut NoRecord),
+                };
+                done(c * PACKET + i, finite_or_black(color));
+            }
+        }
+    }
+
     /// The colour seen along `ray` (at ray-tree depth `depth`) given its closest hit.
     fn shade<R: Recorder, M: Rules>(
         &self,

@@ -8,9 +8,9 @@
 //! The primitives keep their leaf order (a subtree's are contiguous), so a merged leaf
 //! is a range of them like any other.
 
-use super::build::{leaf_cost, Pack, Packs, TRAVERSAL_COST};
 use super::node::BvhNode;
-use super::wide::{Node8, EMPTY, MAX, MIN, WIDTH};
+use super::sah::{leaf_cost, Pack, Packs, TRAVERSAL_COST};
+use crate::accel::traverse::wide::{Node8, EMPTY, MAX, MIN, WIDTH};
 
 /// Most primitives in a leaf made by merging a subtree.
 const MAX_MERGED_LEAF: u32 = 16;
@@ -184,7 +184,7 @@ fn emit(binary: &[BvhNode], table: &[Table], n: usize, out: &mut Vec<Node8>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::build::{build_with, MAX_LEAF};
+    use crate::accel::build::sah::{build_with, MAX_LEAF};
     use crate::accel::tests::random_boxes;
     use crate::math::Aabb;
 

@@ -23,10 +23,11 @@ use std::arch::x86_64::{
     _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
-use super::bvh::{leaf_kinds, with_kinds, Bvh};
-use super::ray8::{Hits8, Ray8, RAYS};
-use super::tri4::Tri4;
 use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
+use crate::accel::bvh::Bvh;
+use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
+use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
+use crate::accel::leaf::tri4::Tri4;
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -269,7 +270,7 @@ fn entered_avx(node: &Node8, r: &RayBoxes, t_max: f32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::wide::{Portable, MAX, MIN};
+    use crate::accel::traverse::wide::{Portable, MAX, MIN};
     use crate::math::Vec3;
 
     /// The AVX slab test gives the portable one's distances and masks bit for bit, on
@@ -281,7 +282,7 @@ mod tests {
             return;
         };
         // Seven boxes and an empty lane.
-        let mut node = crate::accel::wide::EMPTY;
+        let mut node = crate::accel::traverse::wide::EMPTY;
         let boxes = [
             ([0.0, 0.0, 4.0], [1.0, 1.0, 5.0]),
             ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]),
@@ -327,7 +328,7 @@ mod tests {
             eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
-        let (block, _, packets) = crate::accel::ray8::tests::cases();
+        let (block, _, packets) = crate::accel::leaf::ray8::tests::cases();
         for (rays, limits) in &packets {
             let rays8 = Ray8::new(rays);
             for lane in 0..4 {
@@ -350,8 +351,8 @@ mod tests {
             eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
-        let (first, tris, packets) = crate::accel::ray8::tests::cases();
-        let second = crate::accel::ray8::tests::second_block(&tris);
+        let (first, tris, packets) = crate::accel::leaf::ray8::tests::cases();
+        let second = crate::accel::leaf::ray8::tests::second_block(&tris);
         let mut hits = 0;
         for (rays, limits) in &packets {
             for (r, &t_max) in rays.iter().zip(limits) {

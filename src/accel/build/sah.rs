@@ -56,29 +56,29 @@ pub enum Pack {
     Cone = 3,
 }
 
-/// How many primitives of a set pack in each kind of block.
+/// The kinds of block found among a set of primitives, as bits (bit `k` for the
+/// [`Pack`] numbered `k`): all the SAH needs to know of them, since a leaf's cost
+/// depends only on whether its primitives are all of one packable kind
+/// ([`leaf_cost`]). A set of bits rather than counts per kind: one `or` per item
+/// binned, where three counts took a match and three additions (the builder ran
+/// 10 % more instructions so).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Packs {
-    /// Primitives that pack with triangles.
-    pub triangles: u32,
-    /// Primitives that pack with spheres.
-    pub spheres: u32,
-    /// Primitives that pack with cones.
-    pub cones: u32,
-}
+pub struct Packs(u32);
 
 impl Packs {
-    /// The counts of one primitive of kind `pack`.
-    #[inline]
+    /// The kind of one primitive of kind `pack`.
+    #[inline(always)]
     pub fn one(pack: Pack) -> Packs {
-        Packs {
-            triangles: u32::from(pack == Pack::Triangle),
-            spheres: u32::from(pack == Pack::Sphere),
-            cones: u32::from(pack == Pack::Cone),
-        }
+        Packs::of_bits(pack as u32)
     }
 
-    /// The counts of primitives of kinds `packs`.
+    /// The kind of one primitive whose [`Pack`] has the number `pack`.
+    #[inline(always)]
+    pub fn of_bits(pack: u32) -> Packs {
+        Packs(1 << (pack & 3))
+    }
+
+    /// The kinds among primitives of kinds `packs`.
     pub fn of(packs: impl IntoIterator<Item = Pack>) -> Packs {
         let mut all = Packs::default();
         for pack in packs {
@@ -87,29 +87,27 @@ impl Packs {
         all
     }
 
-    /// Adds `other`'s counts.
-    #[inline]
+    /// Adds `other`'s kinds.
+    #[inline(always)]
     pub fn add(&mut self, other: Packs) {
-        self.triangles += other.triangles;
-        self.spheres += other.spheres;
-        self.cones += other.cones;
+        self.0 |= other.0;
     }
 }
 
-/// SAH cost of intersecting a leaf of `n` primitives with `packs` among them: a leaf
+/// SAH cost of intersecting a leaf of `n` primitives of the kinds `packs`: a leaf
 /// made only of triangles costs one test per [`TRIANGLES_PER_TEST`], one made only of
 /// spheres or only of cones one per [`SPHERES_PER_TEST`] or [`CONES_PER_TEST`], any
-/// other leaf one per primitive.
+/// other leaf one per primitive (nothing for an empty one).
 #[inline]
 pub fn leaf_cost(n: u32, packs: Packs) -> f32 {
-    if packs.triangles == n {
-        n.div_ceil(TRIANGLES_PER_TEST) as f32
-    } else if packs.spheres == n {
-        n.div_ceil(SPHERES_PER_TEST) as f32
-    } else if packs.cones == n {
-        n.div_ceil(CONES_PER_TEST) as f32
-    } else {
-        n as f32
+    const TRIANGLES: Packs = Packs(1 << Pack::Triangle as u32);
+    const SPHERES: Packs = Packs(1 << Pack::Sphere as u32);
+    const CONES: Packs = Packs(1 << Pack::Cone as u32);
+    match packs {
+        TRIANGLES => n.div_ceil(TRIANGLES_PER_TEST) as f32,
+        SPHERES => n.div_ceil(SPHERES_PER_TEST) as f32,
+        CONES => n.div_ceil(CONES_PER_TEST) as f32,
+        _ => n as f32,
     }
 }
 
@@ -422,7 +420,11 @@ fn partition(
 
 /// [`leaf_cost`] of `items` as one leaf.
 fn leaf_cost_of(items: &[Item]) -> f32 {
-    leaf_cost(items.len() as u32, Packs::of(items.iter().map(Item::pack)))
+    let mut packs = Packs::default();
+    for it in items {
+        packs.add(it.packs());
+    }
+    leaf_cost(items.len() as u32, packs)
 }
 
 /// Partitions at the object median along `axis`; returns the split index.

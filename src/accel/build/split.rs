@@ -8,11 +8,11 @@
 //! tests it in whichever leaf it enters first, and finds the same hit in every one.
 //! Queries report a split cone by the index of its first copy in leaf order
 //! ([`Copies::canonical`]), so copies never compete as different primitives (ties
-//! go to the lowest index, `nearest.rs`).
+//! go to the lowest index, `traverse::nearest`).
 
 use rayon::prelude::*;
 
-use super::build::Pack;
+use super::sah::Pack;
 use crate::geometry::{ConeShape, Primitive, Shape};
 use crate::math::Aabb;
 
@@ -38,7 +38,7 @@ const THIN: f32 = 6.0;
 
 /// Which piece of a split primitive a reference stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Piece {
+pub(in crate::accel) struct Piece {
     /// The piece, from 0 at the base.
     pub index: u8,
     /// How many pieces (1: the whole primitive).
@@ -64,7 +64,7 @@ impl Piece {
 }
 
 /// The boxes the builder sorts: one per primitive, or per piece of a split cone.
-pub(super) struct References {
+pub(in crate::accel) struct References {
     /// Each reference's box.
     pub bounds: Vec<Aabb>,
     /// Each reference's kind of block (its primitive's).
@@ -77,7 +77,7 @@ pub(super) struct References {
 
 /// Leaf-order bookkeeping of a tree with split cones (see the module docs).
 #[derive(Clone, Debug)]
-pub(super) struct Copies {
+pub(in crate::accel) struct Copies {
     /// Per leaf-order index, the leaf-order index of the first copy of its primitive:
     /// the index the queries report.
     pub canonical: Vec<u32>,
@@ -114,7 +114,7 @@ impl Copies {
 /// How many pieces `cone` is split into: if it is [`THIN`], halved while that takes
 /// its boxes' surface area below [`SPLIT_BELOW`] of the whole's, up to
 /// [`MAX_PIECES`].
-pub(super) fn pieces(cone: &ConeShape) -> u32 {
+pub(in crate::accel) fn pieces(cone: &ConeShape) -> u32 {
     let diameter = 2.0 * cone.base_radius.max(cone.apex_radius());
     // (Packable cones have a finite positive length; NaN radii are never split.)
     if cone.length < THIN * diameter || diameter.is_nan() {
@@ -142,7 +142,7 @@ pub(super) fn pieces(cone: &ConeShape) -> u32 {
 /// The references for `primitives` (with their `bounds` and `packs`), or `None`
 /// when no cone is worth splitting (then the builder takes the primitives as they
 /// are).
-pub(super) fn split_long_cones(
+pub(in crate::accel) fn split_long_cones(
     primitives: &[Primitive],
     bounds: &[Aabb],
     packs: &[Pack],

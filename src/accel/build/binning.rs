@@ -8,7 +8,7 @@
 
 use wide::{f32x4, i32x4};
 
-use super::build::{Pack, Packs};
+use super::sah::{Pack, Packs};
 use crate::math::{Aabb, Vec3};
 
 /// Bins per axis for the SAH sweep.
@@ -59,15 +59,10 @@ impl Item {
         self.min.to_array()[3].to_bits()
     }
 
-    /// The primitive's kind of block.
-    #[inline]
-    pub fn pack(&self) -> Pack {
-        match self.max.to_array()[3].to_bits() {
-            1 => Pack::Triangle,
-            2 => Pack::Sphere,
-            3 => Pack::Cone,
-            _ => Pack::Alone,
-        }
+    /// The primitive's kind of block, as [`Packs`].
+    #[inline(always)]
+    pub fn packs(&self) -> Packs {
+        Packs::of_bits(self.max.to_array()[3].to_bits())
     }
 
     /// The box's centre, `(min + max) * 0.5` as [`Aabb::centroid`] computes it.
@@ -193,7 +188,7 @@ impl Bins {
     pub fn fill(&mut self, items: &[Item], binner: &Binner) {
         for it in items {
             let b = binner.bins(it.centroid());
-            let packs = Packs::one(it.pack());
+            let packs = it.packs();
             for (axis, &bin) in b[..3].iter().enumerate() {
                 let bin = bin as usize & (BINS - 1);
                 self.bounds[axis][bin].add(it);

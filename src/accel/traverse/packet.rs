@@ -14,7 +14,7 @@
 //! union. A subtree left to six rays or fewer is walked by each of them alone with
 //! [`Bvh::closest_hit`]'s traversal, cheaper per node (among 600 000 spheres the
 //! rays soon part: packets +16 %). A triangle leaf entered by four rays or more has
-//! each triangle tested against all eight rays at once (`ray8.rs`), other leaves
+//! each triangle tested against all eight rays at once (`leaf::ray8`), other leaves
 //! are tested ray by ray, always with the single-ray arithmetic, so every ray gets
 //! the hit `closest_hit` gives it, ties included (`Nearest`).
 
@@ -22,11 +22,13 @@ use std::cell::RefCell;
 
 use wide::f32x8;
 
-use super::bvh::{sort_descending, Bvh, TRI4_LEAF};
 use super::nearest::Nearest;
-use super::ray8::{Ray8, RAYS};
-use super::tri4::Ray4;
+use super::single::sort_descending;
 use super::wide::{Kernels, Node8, Portable, RayBoxes, FAR_SCALE, MAX, MIN, WIDTH};
+use crate::accel::bvh::Bvh;
+use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
+use crate::accel::leaf::ray8::{Ray8, RAYS};
+use crate::accel::leaf::tri4::Ray4;
 use crate::geometry::Hit;
 use crate::math::{Ray, TINY_DIR};
 
@@ -145,12 +147,64 @@ impl Interval {
     }
 }
 
+/// The packet's rays prepared for the single-ray tests (`RayBoxes` for the slab test,
+/// `Ray4` for the leaf blocks), each only once some test needs it: camera packets
+/// often go through the tree on the interval test alone and test their leaves eight
+/// rays at a time, and preparing all eight rays up front cost tetra's packets 12 % of
+/// their instructions.
+struct SingleRays {
+    boxes: [RayBoxes; PACKET],
+    ray4: [Ray4; PACKET],
+    /// The rays prepared, as bits.
+    ready: u32,
+}
+
+impl SingleRays {
+    /// Ray 0 prepared (the others hold copies of it until they are).
+    #[inline(always)]
+    fn new(rays: &[Ray]) -> SingleRays {
+        SingleRays {
+            boxes: [RayBoxes::new(&rays[0]); PACKET],
+            ray4: [Ray4::new(&rays[0]); PACKET],
+            ready: 1,
+        }
+    }
+
+    /// Prepares the rays of `mask` (bits of indices into `rays`) not prepared yet.
+    #[inline(always)]
+    fn prepare(&mut self, rays: &[Ray], mask: u32) {
+        let mut todo = mask & !self.ready;
+        self.ready |= mask;
+        while todo != 0 {
+            let k = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            self.boxes[k] = RayBoxes::new(&rays[k]);
+            self.ray4[k] = Ray4::new(&rays[k]);
+        }
+    }
+}
+
 thread_local! {
     /// Each thread's packet traversal stack, reused across queries.
     static PACKET_STACK: RefCell<Vec<Entry>> = RefCell::new(Vec::with_capacity(256));
 }
 
 impl Bvh {
+    /// [`Bvh::closest_hit`] for every ray of `rays`, [`PACKET`] consecutive rays at a
+    /// time: `out[k]` receives the nearest hit of `rays[k]` with `0 < t < t_max`, the
+    /// very hit `closest_hit` gives it (ties included). The entry point for streams
+    /// of coherent rays, such as a row of camera rays, or one sample of each pixel of
+    /// a row: neighbours in the slice should be neighbours in the image.
+    ///
+    /// # Panics
+    /// If `out` has another length than `rays`.
+    pub fn closest_hits(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+        assert_eq!(out.len(), rays.len(), "one result per ray");
+        for (packet, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            self.closest_hit_packet(packet, t_max, out);
+        }
+    }
+
     /// [`Bvh::closest_hit`] for up to [`PACKET`] rays at once: `out[k]` receives the
     /// nearest hit of `rays[k]` with `0 < t < t_max`. Fastest on coherent rays.
     ///
@@ -166,7 +220,7 @@ impl Bvh {
 
     /// [`Bvh::closest_hit_packet`] with the slab test `kernels` (see `closest_hit_with`).
     #[inline(always)]
-    pub(super) fn closest_hit_packet_with<S: Kernels>(
+    pub(in crate::accel) fn closest_hit_packet_with<S: Kernels>(
         &self,
         kernels: S,
         rays: &[Ray],
@@ -200,8 +254,7 @@ impl Bvh {
         let n = rays.len();
         let rays8 = Ray8::new(rays);
         let interval = Interval::of(&rays8);
-        let boxes: [RayBoxes; PACKET] = std::array::from_fn(|k| RayBoxes::new(&rays[k.min(n - 1)]));
-        let ray4: [Ray4; PACKET] = std::array::from_fn(|k| Ray4::new(&rays[k.min(n - 1)]));
+        let mut single = SingleRays::new(rays);
         // Each ray's `nearest[k].limit`, side by side for the vector tests.
         let mut limits = nearest.map(|n| n.limit);
         PACKET_STACK.with_borrow_mut(|stack| {
@@ -229,6 +282,8 @@ impl Bvh {
                 }
                 // (`coherent` holds only with an interval.)
                 let mut left = if coherent { 0 } else { active };
+                single.prepare(rays, left);
+                let boxes = &single.boxes;
                 while left != 0 {
                     let k = left.trailing_zeros() as usize;
                     left &= left - 1;
@@ -294,16 +349,17 @@ impl Bvh {
                         }
                         continue;
                     }
+                    single.prepare(rays, entering);
                     let mut each = entering;
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest::<S, { super::bvh::leaf_kinds::ALL }>(
+                        self.leaf_closest::<S, { leaf_kinds::ALL }>(
                             kernels,
                             first,
                             count,
                             &rays[k],
-                            &ray4[k],
+                            &single.ray4[k],
                             &mut nearest[k],
                         );
                         limits[k] = nearest[k].limit;
@@ -339,16 +395,17 @@ impl Bvh {
                         continue;
                     }
                     if entering.count_ones() <= SOLO {
+                        single.prepare(rays, entering);
                         let mut each = entering;
                         while each != 0 {
                             let k = each.trailing_zeros() as usize;
                             each &= each - 1;
-                            self.walk_closest::<S, { super::bvh::leaf_kinds::ALL }>(
+                            self.walk_closest::<S, { leaf_kinds::ALL }>(
                                 kernels,
                                 e.node,
                                 &rays[k],
-                                &boxes[k],
-                                &ray4[k],
+                                &single.boxes[k],
+                                &single.ray4[k],
                                 &mut nearest[k],
                             );
                             limits[k] = nearest[k].limit;

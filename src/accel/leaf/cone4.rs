@@ -142,7 +142,7 @@ impl Block for Cone4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::tri4::assert_blocks_match_scalar;
+    use crate::accel::leaf::tri4::assert_blocks_match_scalar;
     use crate::math::{Ray, Vec3};
 
     /// Cones and rays reaching every branch of the scalar test: quick rejections,

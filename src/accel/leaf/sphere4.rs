@@ -31,13 +31,13 @@ const _: () = assert!(std::mem::size_of::<Sphere4>() == 80);
 /// `f32::min` per lane: a NaN operand gives the other one (`fast_min` alone gives
 /// its second operand).
 #[inline(always)]
-pub(super) fn min(a: f32x4, b: f32x4) -> f32x4 {
+pub(in crate::accel) fn min(a: f32x4, b: f32x4) -> f32x4 {
     b.is_nan().bitselect(a, a.fast_min(b))
 }
 
 /// `f32::max` per lane, NaN as in [`min`].
 #[inline(always)]
-pub(super) fn max(a: f32x4, b: f32x4) -> f32x4 {
+pub(in crate::accel) fn max(a: f32x4, b: f32x4) -> f32x4 {
     b.is_nan().bitselect(a, a.fast_max(b))
 }
 
@@ -107,7 +107,7 @@ impl Block for Sphere4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::tri4::assert_blocks_match_scalar;
+    use crate::accel::leaf::tri4::assert_blocks_match_scalar;
     use crate::math::{Ray, Vec3};
 
     /// Spheres and rays chosen to reach every branch of the scalar test: misses, the

@@ -24,9 +24,9 @@ pub const LANES: usize = 4;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
 pub struct Tri4 {
-    pub(super) v0: [[f32; LANES]; 3],
-    pub(super) e1: [[f32; LANES]; 3],
-    pub(super) e2: [[f32; LANES]; 3],
+    pub(in crate::accel) v0: [[f32; LANES]; 3],
+    pub(in crate::accel) e1: [[f32; LANES]; 3],
+    pub(in crate::accel) e2: [[f32; LANES]; 3],
     /// Primitive index of each lane in the BVH's primitive array.
     pub prim: [u32; LANES],
 }
@@ -36,8 +36,8 @@ const _: () = assert!(std::mem::size_of::<Tri4>() == 160);
 /// A ray broadcast to four lanes.
 #[derive(Clone, Copy)]
 pub struct Ray4 {
-    pub(super) origin: [f32x4; 3],
-    pub(super) dir: [f32x4; 3],
+    pub(in crate::accel) origin: [f32x4; 3],
+    pub(in crate::accel) dir: [f32x4; 3],
 }
 
 impl Ray4 {
@@ -59,7 +59,7 @@ fn load(a: &[f32; LANES]) -> f32x4 {
 
 /// `a × b` per lane, component order as in `Vec3::cross`.
 #[inline(always)]
-pub(super) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
+pub(in crate::accel) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -69,7 +69,7 @@ pub(super) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: 
 
 /// `a · b` per lane, summed left to right as in `Vec3::dot`.
 #[inline(always)]
-pub(super) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
+pub(in crate::accel) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
@@ -77,7 +77,7 @@ pub(super) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[
 /// operations of `Triangle::intersect` in their order: `(det, t, u, v)`, the hit
 /// still to be accepted (`det ≠ 0`, `u, v ≥ 0`, `u + v ≤ 1`, `0 < t < t_max`).
 #[inline(always)]
-pub(super) fn moller_trumbore<T>(
+pub(in crate::accel) fn moller_trumbore<T>(
     origin: &[T; 3],
     dir: &[T; 3],
     v0: &[T; 3],
@@ -101,7 +101,9 @@ where
 
 /// The comparisons of the triangle test's acceptance, on four lanes or eight: each
 /// gives a mask (all ones where true), combined with `&` and read out once as bits.
-pub(super) trait Accept: Copy + Add<Output = Self> + BitAnd<Output = Self> {
+pub(in crate::accel) trait Accept:
+    Copy + Add<Output = Self> + BitAnd<Output = Self>
+{
     /// Zero in every lane.
     const ZERO: Self;
     /// One in every lane.
@@ -161,7 +163,7 @@ accept!(f32x8);
 /// `0 < t < limit`. Comparisons with a NaN are false (`≠` true), so NaN lanes drop out
 /// as in the scalar test.
 #[inline(always)]
-pub(super) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
+pub(in crate::accel) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
     let (zero, one) = (T::ZERO, T::ONE);
     let ok = det.ne(zero) & u.ge(zero) & u.le(one) & v.ge(zero) & (u + v).le(one) & t.gt(zero) & t.lt(limit);
     ok.bits()
@@ -171,7 +173,7 @@ pub(super) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
 /// equals (blocks keep their primitives in index order, and a pair of blocks the
 /// first one's before the second one's, so this is the lowest index).
 #[inline(always)]
-pub(super) fn nearest_lane(t: &[f32], mut mask: u32) -> usize {
+pub(in crate::accel) fn nearest_lane(t: &[f32], mut mask: u32) -> usize {
     let mut lane = mask.trailing_zeros() as usize;
     mask &= mask - 1;
     while mask != 0 {
@@ -237,7 +239,7 @@ impl Block for Tri4 {
 
 /// A block of up to [`LANES`] primitives of one kind (in index order), tested
 /// together against one ray.
-pub(super) trait Block {
+pub(in crate::accel) trait Block {
     /// Per lane the distance and the barycentrics (zero for shapes without), and the
     /// lanes hit with `0 < t < t_max` as bits.
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32);
@@ -276,7 +278,7 @@ pub(super) trait Block {
 /// nearest over those shapes, distance bit for bit and the lowest lane among equals,
 /// and its any-hit query answers exactly when there is one.
 #[cfg(test)]
-pub(super) fn assert_blocks_match_scalar<S: Copy, B: Block>(
+pub(in crate::accel) fn assert_blocks_match_scalar<S: Copy, B: Block>(
     shapes: &[S],
     rays: &[(Ray, f32)],
     make: impl Fn(&[(S, u32)]) -> B,

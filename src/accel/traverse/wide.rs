@@ -2,16 +2,16 @@
 //!
 //! Each [`Node8`] holds its eight children's boxes in structure-of-arrays form, so one
 //! slab test over eight lanes compiles to packed SIMD instructions (`wide::f32x8`: two
-//! SSE registers on the x86_64 baseline; `accel::avx` has the same test in one AVX
+//! SSE registers on the x86_64 baseline; `accel::traverse::avx` has the same test in one AVX
 //! register, chosen at run time). Eight lanes rather than four halve the levels a ray descends,
 //! each a dependent memory access: on this project's benchmarks that made random rays
-//! 8 to 14 % faster (BENCHMARKS.md). `accel::collapse` makes them from the binary
+//! 8 to 14 % faster (BENCHMARKS.md). `accel::build::collapse` makes them from the binary
 //! tree.
 
 use wide::{f32x8, u32x8};
 
-use super::ray8::{pair_hits, Hits8, Ray8, RAYS};
-use super::tri4::Tri4;
+use crate::accel::leaf::ray8::{pair_hits, Hits8, Ray8, RAYS};
+use crate::accel::leaf::tri4::Tri4;
 use crate::math::{Aabb, Ray, Vec3, TINY_DIR};
 
 /// Lanes per wide node.
@@ -41,7 +41,7 @@ pub const MIN: usize = 0;
 /// The side of [`Node8::bounds`] holding the upper corners.
 pub const MAX: usize = 1;
 
-pub(super) const EMPTY: Node8 = Node8 {
+pub(in crate::accel) const EMPTY: Node8 = Node8 {
     bounds: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]],
     child: [u32::MAX; WIDTH],
     count: [0; WIDTH],
@@ -54,24 +54,24 @@ pub(super) const EMPTY: Node8 = Node8 {
 /// of a mesh whose triangles bound the boxes) could otherwise miss the box, and the
 /// triangle in it: a hole in the mesh (Ize 2013, "Robust BVH ray traversal"; 2^-20
 /// is 16 units in the last place, above the 6 needed).
-pub(super) const FAR_SCALE: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
+pub(in crate::accel) const FAR_SCALE: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
 
 /// A ray prepared for the wide slab test.
 #[derive(Clone, Copy)]
 pub struct RayBoxes {
-    pub(super) origin: [f32; 3],
+    pub(in crate::accel) origin: [f32; 3],
     /// `Ray::inv_dir`, except on an axis the ray runs parallel to (a zero direction
     /// component), where it is an infinity of the zero's sign. A ray lying exactly in
     /// a box's plane then computes `0 · ∞ = NaN` for it, which the slab test ignores
     /// (the box stays open on that axis, as the primitive tests in that face see it);
     /// with `Ray::inv_dir`'s huge finite value it would compute 0 and close the box at
     /// t = 0, missing the primitives in the face.
-    pub(super) inv: [f32; 3],
+    pub(in crate::accel) inv: [f32; 3],
     /// Per axis, the side of [`Node8::bounds`] the ray enters boxes through: [`MIN`]
     /// for a positive `inv`, else [`MAX`] (it leaves through the other). Chosen once
     /// per ray rather than at every node: the sign test there was a branch the
     /// processor mispredicted on random rays (7 to 11 % of their time, BENCHMARKS.md).
-    pub(super) near: [usize; 3],
+    pub(in crate::accel) near: [usize; 3],
 }
 
 impl RayBoxes {
@@ -96,7 +96,11 @@ impl RayBoxes {
 
     /// The rows of `node`'s near and far planes on `axis` (see [`RayBoxes::near`]).
     #[inline(always)]
-    pub(super) fn planes<'n>(&self, node: &'n Node8, axis: usize) -> (&'n [f32; WIDTH], &'n [f32; WIDTH]) {
+    pub(in crate::accel) fn planes<'n>(
+        &self,
+        node: &'n Node8,
+        axis: usize,
+    ) -> (&'n [f32; WIDTH], &'n [f32; WIDTH]) {
         // `& 1` (a no-op on MIN and MAX) spares the bounds checks.
         let near = self.near[axis] & 1;
         (&node.bounds[near][axis], &node.bounds[near ^ 1][axis])
@@ -168,7 +172,7 @@ impl Node8 {
 }
 
 /// The SIMD kernels of traversal (a ray against a node's eight boxes, a triangle
-/// against eight rays, eight triangles against a ray): [`Portable`] on any CPU, or the AVX ones (`accel::avx`) with
+/// against eight rays, eight triangles against a ray): [`Portable`] on any CPU, or the AVX ones (`accel::traverse::avx`) with
 /// the very same arithmetic. The traversal functions are generic over them so that
 /// each instruction set gets its own copy.
 pub trait Kernels: Copy {
