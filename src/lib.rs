@@ -7,6 +7,8 @@
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
 //! [`image`] encodes it. [`gen`] makes the SPD's classic scenes, at sizes up to 10 million primitives.
+//! [`PreparedScene`] owns a scene and its BVH, built once, and renders it with
+//! checked options (the one object the Python bindings hold).
 //! [`render::render_region`] traces a crop with exactly the full render's pixels,
 //! and [`image::tiles`] assembles such crops; [`render::debug::trace_pixel`] keeps
 //! the ray tree of one pixel.
@@ -34,9 +36,11 @@ pub mod image;
 pub mod load;
 pub mod math;
 pub mod nff;
+pub mod prepared;
 pub mod render;
 pub mod scene;
 
+pub use prepared::PreparedScene;
 pub use scene::Scene;
 
 /// A short, lower-case description of an I/O error, the same wording everywhere:

@@ -18,6 +18,7 @@ use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::nff::MAX_RESOLUTION;
+use nffrt::prepared::image_size;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, DEFAULT_MAX_DEPTH};
 use nffrt::Scene;
 
@@ -155,23 +156,6 @@ fn positive(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("'{s}' is not a finite number above 0")),
-    }
-}
-
-/// The image size from `--width` and `--height` over the scene's `scene_w` x `scene_h`:
-/// both given, exactly them; one alone, the other side keeps the scene's aspect ratio
-/// (rounded to the nearest pixel, 1 to [`MAX_RESOLUTION`]); neither, the scene's.
-fn image_size(width: Option<u32>, height: Option<u32>, scene_w: u32, scene_h: u32) -> (u32, u32) {
-    // `given` pixels along a side of `side` scene pixels: the other side, `other` long.
-    let follow = |given: u32, side: u32, other: u32| {
-        let (given, side, other) = (given as u64, side.max(1) as u64, other as u64);
-        ((given * other + side / 2) / side).clamp(1, MAX_RESOLUTION as u64) as u32
-    };
-    match (width, height) {
-        (Some(w), Some(h)) => (w, h),
-        (Some(w), None) => (w, follow(w, scene_w, scene_h)),
-        (None, Some(h)) => (follow(h, scene_h, scene_w), h),
-        (None, None) => (scene_w, scene_h),
     }
 }
 

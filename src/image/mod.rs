@@ -1,11 +1,12 @@
 //! Images: the linear floating-point framebuffer, its encoders and decoders, the
-//! tiles of a split render, and the skybox cube map.
+//! tiles of a split render (and the bands to split it in), and the skybox cube map.
 //!
 //! Colour mapping (one documented choice): each linear channel is clamped to [0, 1],
 //! multiplied by 255 and rounded to the nearest integer. No gamma curve is applied:
 //! NFF colours are display values, as in the SPD's own pictures. PFM output skips the
 //! mapping and keeps the linear values as they are.
 
+mod bands;
 mod framebuffer;
 mod pfm;
 mod png;
@@ -15,6 +16,7 @@ pub mod skybox;
 pub mod tiles;
 
 pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};
+pub use bands::bands;
 pub use framebuffer::{quantize, Image};
 pub use pfm::{decode_pfm, encode_pfm};
 pub use ppm::{decode_ppm, encode_ppm};

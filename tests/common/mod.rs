@@ -10,7 +10,11 @@ use std::process::{Command, Output, Stdio};
 
 /// Runs the `nffrt` binary built for these tests, feeding `stdin` to it.
 pub fn nffrt(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
+    // Absent without the `cli` feature; the tests that run the binary require it.
+    let Some(binary) = option_env!("CARGO_BIN_EXE_nffrt") else {
+        panic!("the nffrt binary is built only with the `cli` feature");
+    };
+    let mut child = Command::new(binary)
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -1,0 +1,30 @@
+"""nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural
+Databases) and P3F scenes, rendering into numpy arrays.
+
+>>> import nffrt
+>>> scene = nffrt.parse(nffrt.gen("balls", size=1))
+>>> image = scene.render(width=64, height=48)      # float32, shape (48, 64, 3)
+>>> nffrt.save(image, "balls.png")                 # or .ppm, .pfm
+
+A scene is loaded (``load``) or parsed (``parse``) once, with its acceleration
+structure, and renders any number of times; ``render`` releases the GIL and stops
+on Ctrl-C. ``tiles`` and ``merge`` split a render into regions and put it back
+together; ``nffrt.dask.render`` runs the regions on a Dask cluster.
+"""
+
+from ._nffrt import Scene, SceneError, __version__, gen, load, parse, save, to_png
+from ._tiles import Region, merge, tiles
+
+__all__ = [
+    "Region",
+    "Scene",
+    "SceneError",
+    "__version__",
+    "gen",
+    "load",
+    "merge",
+    "parse",
+    "save",
+    "tiles",
+    "to_png",
+]

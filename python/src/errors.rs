@@ -1,0 +1,84 @@
+//! Rust errors as Python exceptions: a malformed scene is a `SceneError` (a
+//! `ValueError`) that carries where it is, a file that cannot be read an `OSError`
+//! with its errno and file name (so Python picks `FileNotFoundError` and friends),
+//! bad arguments a `ValueError`.
+
+use std::path::Path;
+
+use nffrt::load::LoadError;
+use nffrt::prepared::RenderError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    nffrt,
+    SceneError,
+    PyValueError,
+    "A malformed scene: `str(e)` is `PATH:LINE:COLUMN: what`, and `e.path` (None for \
+     text), `e.line`, `e.column` (1-based) and `e.message` (the what) give its parts."
+);
+
+/// A `SceneError` for a parse error at `line`:`column` of `path` (None for text).
+pub fn scene_error(py: Python<'_>, path: Option<&str>, line: u32, column: u32, message: String) -> PyErr {
+    let shown = path.unwrap_or("<string>");
+    let err = SceneError::new_err(format!("{shown}:{line}:{column}: {message}"));
+    let value = err.value(py);
+    let set = || -> PyResult<()> {
+        value.setattr("path", path)?;
+        value.setattr("line", line)?;
+        value.setattr("column", column)?;
+        value.setattr("message", &message)
+    };
+    match set() {
+        Ok(()) => err,
+        Err(e) => e,
+    }
+}
+
+/// The exception for a scene that did not load: `path` is None for text.
+pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError) -> PyErr {
+    match e {
+        LoadError::Parse { error, .. } => {
+            let path = path.map(|p| p.display().to_string());
+            scene_error(
+                py,
+                path.as_deref(),
+                error.line,
+                error.column,
+                error.kind.to_string(),
+            )
+        }
+        // A file the scene names (a skybox image) is missing, unreadable or corrupt:
+        // an OSError naming it, as the command line treats it.
+        LoadError::Io { path, message } | LoadError::Asset { path, message } => {
+            PyOSError::new_err(format!("{}: {message}", path.display()))
+        }
+        LoadError::Cancelled => PyKeyboardInterrupt::new_err("loading was cancelled"),
+    }
+}
+
+/// An `OSError` for `e` on `path`, with its errno when there is one, so that Python
+/// raises the matching subclass (`FileNotFoundError`, `IsADirectoryError`, ...).
+pub fn io_error(path: &Path, e: &std::io::Error) -> PyErr {
+    let name = path.display().to_string();
+    let reason = nffrt::io_reason(e);
+    match e.raw_os_error() {
+        Some(errno) => PyOSError::new_err((errno, reason, name)),
+        None => PyOSError::new_err(format!("{name}: {reason}")),
+    }
+}
+
+/// The exception for a render that did not finish: bad options are a `ValueError`;
+/// a cancelled render is a `KeyboardInterrupt` unless the signal check already
+/// raised one.
+pub fn render_error(e: RenderError) -> PyErr {
+    match e {
+        RenderError::Options(m) => PyValueError::new_err(m),
+        RenderError::Cancelled => PyKeyboardInterrupt::new_err("the render was cancelled"),
+    }
+}
+
+/// A `ValueError` with `message`.
+pub fn value_error(message: impl Into<String>) -> PyErr {
+    PyValueError::new_err(message.into())
+}

@@ -1,0 +1,390 @@
+//! `nffrt.Scene`: a loaded scene with its BVH (one `nffrt::PreparedScene`), its
+//! description as plain Python values, and `render`, which releases the GIL.
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use nffrt::image::Region;
+use nffrt::load::load_bytes_cancellable;
+use nffrt::math::Vec3;
+use nffrt::nff::{Format, Limits};
+use nffrt::prepared::image_size;
+use nffrt::render::{RenderOptions, Sampling, Stats};
+use nffrt::scene::{Dialect, Light};
+use nffrt::PreparedScene;
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyString};
+
+use crate::array::{encode, to_array, FileFormat};
+use crate::errors::{io_error, load_error, render_error, value_error};
+use crate::run::{pool, without_gil};
+
+/// The longest side of the picture `_repr_png_` renders.
+const PREVIEW_SIDE: u32 = 256;
+
+/// A parsed scene and its acceleration structure, built once; render it any number
+/// of times, from any thread.
+#[pyclass(frozen, module = "nffrt", name = "Scene")]
+pub struct PyScene {
+    prepared: PreparedScene,
+    path: Option<PathBuf>,
+    format: Format,
+    last_stats: Mutex<Option<(Stats, f64)>>,
+}
+
+/// The language named by `format` (`None` for "by the file's extension").
+pub fn parse_format(format: Option<&str>) -> PyResult<Option<Format>> {
+    match format.map(str::to_ascii_lowercase).as_deref() {
+        None => Ok(None),
+        Some("nff") => Ok(Some(Format::Nff)),
+        Some("p3f") => Ok(Some(Format::P3f)),
+        Some(other) => Err(value_error(format!("format {other:?}: use \"nff\" or \"p3f\""))),
+    }
+}
+
+/// Why `load` failed: the file itself, or what it holds.
+enum LoadFailure {
+    Read(std::io::Error),
+    Load(nffrt::load::LoadError),
+}
+
+/// Reads, parses and prepares the scene file at `path`, without the GIL; Ctrl-C
+/// stops the parse.
+pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<PyScene> {
+    let format = format.unwrap_or_else(|| Format::of_path(&path));
+    let prepared = without_gil(py, None, |cancel| {
+        let bytes = std::fs::read(&path).map_err(LoadFailure::Read)?;
+        let name = path.display().to_string();
+        let limits = Limits::default();
+        load_bytes_cancellable(&bytes, format, &name, path.parent(), &limits, cancel.flag())
+            .map(PreparedScene::new)
+            .map_err(LoadFailure::Load)
+    })?;
+    let prepared = prepared.map_err(|e| match e {
+        LoadFailure::Read(e) => io_error(&path, &e),
+        LoadFailure::Load(e) => load_error(py, Some(&path), e),
+    })?;
+    Ok(PyScene::new(prepared, Some(path), format))
+}
+
+/// Parses and prepares scene text, without the GIL (files it names are found from
+/// the current directory); Ctrl-C stops the parse.
+pub fn parse(py: Python<'_>, text: &[u8], format: Format) -> PyResult<PyScene> {
+    let prepared = without_gil(py, None, |cancel| {
+        let limits = Limits::default();
+        load_bytes_cancellable(text, format, "<string>", None, &limits, cancel.flag()).map(PreparedScene::new)
+    })?;
+    let prepared = prepared.map_err(|e| load_error(py, None, e))?;
+    Ok(PyScene::new(prepared, None, format))
+}
+
+/// The bytes of a `str` (UTF-8) or `bytes` object.
+pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [u8]>> {
+    if let Ok(s) = text.cast::<PyString>() {
+        return Ok(match s.to_cow()? {
+            Cow::Borrowed(s) => Cow::Borrowed(s.as_bytes()),
+            Cow::Owned(s) => Cow::Owned(s.into_bytes()),
+        });
+    }
+    if let Ok(b) = text.cast::<PyBytes>() {
+        return Ok(Cow::Borrowed(b.as_bytes()));
+    }
+    Err(pyo3::exceptions::PyTypeError::new_err(
+        "scene text must be str or bytes",
+    ))
+}
+
+fn vec3(v: Vec3) -> (f32, f32, f32) {
+    (v.x, v.y, v.z)
+}
+
+impl PyScene {
+    fn new(prepared: PreparedScene, path: Option<PathBuf>, format: Format) -> PyScene {
+        PyScene {
+            prepared,
+            path,
+            format,
+            last_stats: Mutex::new(None),
+        }
+    }
+
+    /// The render settings the arguments ask for, as `nffrt render` reads its flags:
+    /// the file's resolution and `spp` are the defaults.
+    #[allow(clippy::too_many_arguments)]
+    fn options(
+        &self,
+        width: Option<u32>,
+        height: Option<u32>,
+        spp: Option<u32>,
+        max_depth: u32,
+        spd: bool,
+        aperture: Option<f32>,
+        focal: Option<f32>,
+    ) -> PyResult<RenderOptions> {
+        let scene = self.prepared.scene();
+        if spd && spp.is_some() {
+            return Err(value_error(
+                "spd=True has its own sampling: it cannot be combined with spp",
+            ));
+        }
+        if spp == Some(0) {
+            return Err(value_error("spp=0: samples per pixel go from 1 up"));
+        }
+        let sampling = match (spd, spp.or(scene.spp)) {
+            (true, _) => Sampling::SpdCorners,
+            (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
+            _ => Sampling::PixelCenters,
+        };
+        let (width, height) = image_size(width, height, scene.view.width, scene.view.height);
+        Ok(RenderOptions {
+            width,
+            height,
+            max_depth,
+            sampling,
+            aperture,
+            focal,
+            ..RenderOptions::default()
+        })
+    }
+
+    /// Renders `region` (the whole image when `None`) on `threads` threads without
+    /// the GIL, cancelled by Ctrl-C; remembers the ray counts.
+    fn render_image(
+        &self,
+        py: Python<'_>,
+        opts: &RenderOptions,
+        region: Option<(u32, u32, u32, u32)>,
+        threads: Option<usize>,
+    ) -> PyResult<nffrt::image::Image> {
+        let region = match region {
+            Some((x0, y0, x1, y1)) => Region { x0, y0, x1, y1 },
+            None => Region::full(opts.width, opts.height),
+        };
+        let pool = pool(threads)?;
+        let t0 = Instant::now();
+        let rendered = without_gil(py, pool.as_ref(), |cancel| {
+            self.prepared.render_region(opts, &region, cancel)
+        })?;
+        let (image, stats) = rendered.map_err(render_error)?;
+        if let Ok(mut last) = self.last_stats.lock() {
+            *last = Some((stats, t0.elapsed().as_secs_f64()));
+        }
+        Ok(image)
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// Renders the scene into a new numpy `float32` array of shape `(H, W, 3)`, top
+    /// row first: linear RGB, unclamped, the values `nffrt render -o X.pfm` writes.
+    ///
+    /// `width`, `height` and `spp` default to the file's (P3F `spp`; NFF: one ray
+    /// through each pixel centre); one side given, the other keeps the file's
+    /// aspect. `spp > 1` is stratified jittered sampling, `spd` the SPD's corner
+    /// protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
+    /// only that crop (half-open), with exactly the full render's pixels. `threads`
+    /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`
+    /// (focal distance over |from - at|) replace the scene's lens. The GIL is
+    /// released while rendering; Ctrl-C stops the render with `KeyboardInterrupt`.
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        width: Option<u32>,
+        height: Option<u32>,
+        spp: Option<u32>,
+        max_depth: u32,
+        region: Option<(u32, u32, u32, u32)>,
+        threads: Option<usize>,
+        spd: bool,
+        aperture: Option<f32>,
+        focal: Option<f32>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let opts = self.options(width, height, spp, max_depth, spd, aperture, focal)?;
+        let image = self.render_image(py, &opts, region, threads)?;
+        to_array(py, &image)
+    }
+
+    /// The `(width, height)` that `render(width=..., height=...)` makes: the file's
+    /// size, or one side given and the other following the file's aspect ratio.
+    #[pyo3(signature = (width=None, height=None))]
+    fn image_size(&self, width: Option<u32>, height: Option<u32>) -> (u32, u32) {
+        let view = &self.prepared.scene().view;
+        image_size(width, height, view.width, view.height)
+    }
+
+    /// The ray counts of the last render that finished (`None` before any):
+    /// `eye_rays`, `eye_hits`, `reflection_rays`, `refraction_rays`,
+    /// `secondary_hits`, `shadow_rays`, `shadow_blocked`, `total_rays`, and
+    /// `render_s`, its wall-clock time in seconds.
+    #[getter]
+    fn last_stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some((s, seconds)) = *self
+            .last_stats
+            .lock()
+            .map_err(|_| value_error("stats lock poisoned"))?
+        else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        for (key, v) in [
+            ("eye_rays", s.eye_rays),
+            ("eye_hits", s.eye_hits),
+            ("reflection_rays", s.reflection_rays),
+            ("refraction_rays", s.refraction_rays),
+            ("secondary_hits", s.secondary_hits),
+            ("shadow_rays", s.shadow_rays),
+            ("shadow_blocked", s.shadow_blocked),
+            ("total_rays", s.total_rays()),
+        ] {
+            d.set_item(key, v)?;
+        }
+        d.set_item("render_s", seconds)?;
+        Ok(Some(d))
+    }
+
+    /// The file the scene was loaded from (`None` for text).
+    #[getter]
+    fn path(&self) -> Option<String> {
+        self.path.as_ref().map(|p| p.display().to_string())
+    }
+
+    /// The language: `"nff"`, `"p3f-2019"` or `"p3f-2025"` (the P3F course's dialects).
+    #[getter]
+    fn format(&self) -> &'static str {
+        match (self.format, self.prepared.scene().dialect) {
+            (_, Dialect::P3f2019) => "p3f-2019",
+            (_, Dialect::P3f2025) => "p3f-2025",
+            (Format::P3f, Dialect::Nff) => "p3f",
+            (Format::Nff, Dialect::Nff) => "nff",
+        }
+    }
+
+    /// The file's image width in pixels.
+    #[getter]
+    fn width(&self) -> u32 {
+        self.prepared.scene().view.width
+    }
+
+    /// The file's image height in pixels.
+    #[getter]
+    fn height(&self) -> u32 {
+        self.prepared.scene().view.height
+    }
+
+    /// The file's samples per pixel (P3F `spp`), or `None`.
+    #[getter]
+    fn spp(&self) -> Option<u32> {
+        self.prepared.scene().spp
+    }
+
+    /// Primitive counts by kind, with `primitives` (all of them), `lights` and
+    /// `materials`.
+    #[getter]
+    fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.prepared.scene();
+        let d = PyDict::new(py);
+        for (key, n) in [
+            ("spheres", s.spheres.len()),
+            ("cones", s.cones.len()),
+            ("polygons", s.polygons.len()),
+            ("patches", s.patches.len()),
+            ("planes", s.planes.len()),
+            ("boxes", s.boxes.len()),
+            ("meshes", s.meshes.len()),
+            ("mesh_triangles", s.mesh_triangles.len()),
+            ("primitives", s.primitive_count()),
+            ("lights", s.lights.len()),
+            ("materials", s.materials.len()),
+        ] {
+            d.set_item(key, n)?;
+        }
+        Ok(d)
+    }
+
+    /// The camera: `from`, `at`, `up` (3-tuples), `angle` (vertical, degrees),
+    /// `hither`, `width`, `height`, `aperture` (pixels), `focal` (over |from - at|).
+    #[getter]
+    fn camera<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let v = &self.prepared.scene().view;
+        let d = PyDict::new(py);
+        d.set_item("from", vec3(v.from))?;
+        d.set_item("at", vec3(v.at))?;
+        d.set_item("up", vec3(v.up))?;
+        d.set_item("angle", v.angle)?;
+        d.set_item("hither", v.hither)?;
+        d.set_item("width", v.width)?;
+        d.set_item("height", v.height)?;
+        d.set_item("aperture", v.aperture)?;
+        d.set_item("focal", v.focal)?;
+        Ok(d)
+    }
+
+    /// The lights in file order, each a dict: `position` (an area light's corner),
+    /// `color` (`None`: the SPD's default intensity) and, for an area light, `v1`
+    /// and `v2` (the corners at the ends of its two edges from `position`) and
+    /// `grid`.
+    #[getter]
+    fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let light = |l: &Light| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("position", vec3(l.position))?;
+            d.set_item("color", l.color.map(vec3))?;
+            if let Some(a) = &l.area {
+                d.set_item("v1", vec3(a.v1))?;
+                d.set_item("v2", vec3(a.v2))?;
+                d.set_item("grid", a.grid)?;
+            }
+            Ok(d)
+        };
+        self.prepared.scene().lights.iter().map(light).collect()
+    }
+
+    /// The background colour.
+    #[getter]
+    fn background(&self) -> (f32, f32, f32) {
+        vec3(self.prepared.scene().background)
+    }
+
+    /// `(min, max)` corners of the bounded primitives (planes excluded), or `None`.
+    #[getter]
+    #[allow(clippy::type_complexity)]
+    fn bounds(&self) -> Option<((f32, f32, f32), (f32, f32, f32))> {
+        let b = self.prepared.scene().bounds();
+        (!b.is_empty()).then(|| (vec3(b.min), vec3(b.max)))
+    }
+
+    /// What the parser tolerated: `(line, column, message)` tuples.
+    #[getter]
+    fn warnings(&self) -> Vec<(u32, u32, String)> {
+        let w = &self.prepared.scene().warnings;
+        w.iter().map(|w| (w.line, w.column, w.message.clone())).collect()
+    }
+
+    /// A PNG preview for Jupyter: the scene at most 256 pixels on a side.
+    fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let (w, h) = (self.width(), self.height());
+        let scale = (PREVIEW_SIDE as f64 / w.max(h) as f64).min(1.0);
+        let side = |n: u32| ((n as f64 * scale).round() as u32).max(1);
+        let opts = self.options(Some(side(w)), Some(side(h)), Some(1), 5, false, None, None)?;
+        let image = self.render_image(py, &opts, None, None)?;
+        let png = encode(&image, FileFormat::Png).map_err(value_error)?;
+        Ok(PyBytes::new(py, &png))
+    }
+
+    fn __repr__(&self) -> String {
+        let s = self.prepared.scene();
+        let name = self.path.as_deref().map(Path::display);
+        let name = name.map(|n| format!("{n}: ")).unwrap_or_default();
+        format!(
+            "<nffrt.Scene {name}{} primitives, {} lights, {}x{}>",
+            s.primitive_count(),
+            s.lights.len(),
+            s.view.width,
+            s.view.height
+        )
+    }
+}

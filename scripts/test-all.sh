@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Every test, Rust and Python: the README's test command (.ci/run calls it too).
+#
+#   1. cargo test --profile test-release (the library, the command line, the docs'
+#      examples; release speed without fat LTO, see Cargo.toml);
+#   2. the Python module built from pyproject.toml (`pip install .`, a wheel made by
+#      maturin) into a virtual environment with numpy, dask[distributed] and pytest:
+#      $NFFRT_VENV, by default target/py-venv, made on first use (delete it, or
+#      point NFFRT_VENV at a new folder, for a fresh one);
+#   3. pytest python/tests against that module and the binary of step 1.
+#
+# Extra arguments go to pytest (e.g. `scripts/test-all.sh -k dask`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== Rust: cargo test --profile test-release"
+cargo test --profile test-release
+cargo build --profile test-release --bin nffrt
+
+venv="${NFFRT_VENV:-target/py-venv}"
+echo "== Python: build and install the module into $venv"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q --upgrade pip
+fi
+"$venv/bin/pip" install -q "maturin>=1.9.4,<2" numpy "dask[distributed]" pytest
+# The wheel pip builds with maturin from pyproject.toml (the same command a user
+# runs), reinstalled every time so the tests never see a stale module.
+"$venv/bin/pip" install -q --force-reinstall --no-deps .
+
+# The tests compare the module (release profile, fat LTO) with this binary
+# (test-release): floating point is the same under both, and the tests check it.
+echo "== Python: pytest python/tests"
+NFFRT_BIN="$PWD/target/test-release/nffrt" "$venv/bin/python" -m pytest -q python/tests "$@"
