@@ -45,19 +45,8 @@ fn each_axis_sees_the_centre_texel_of_its_face_in_the_picture() {
         ("0 0 1", 4),
         ("0 0 -1", 5),
     ] {
-        let path = dir.join("look.p3f");
-        std::fs::write(&path, scene(look)).unwrap();
         let out = dir.join("look.png");
-        let run = nffrt(
-            &[
-                "render",
-                path.to_str().unwrap(),
-                "-q",
-                "-o",
-                out.to_str().unwrap(),
-            ],
-            b"",
-        );
+        let run = render_look(&dir, look, &out);
         assert_eq!(
             run.status.code(),
             Some(0),
@@ -70,13 +59,11 @@ fn each_axis_sees_the_centre_texel_of_its_face_in_the_picture() {
     }
 }
 
-/// Runs `render` on `dir/look.p3f` and returns (exit code, stderr); checks no picture
-/// was written.
-fn render_broken(dir: &Path) -> (Option<i32>, String) {
+/// Writes `dir/look.p3f` looking along `look` and renders it to `out`.
+fn render_look(dir: &Path, look: &str, out: &Path) -> std::process::Output {
     let path = dir.join("look.p3f");
-    std::fs::write(&path, scene("1 0 0")).unwrap();
-    let out = dir.join("never.png");
-    let run = nffrt(
+    std::fs::write(&path, scene(look)).unwrap();
+    nffrt(
         &[
             "render",
             path.to_str().unwrap(),
@@ -85,7 +72,14 @@ fn render_broken(dir: &Path) -> (Option<i32>, String) {
             out.to_str().unwrap(),
         ],
         b"",
-    );
+    )
+}
+
+/// Runs `render` on `dir/look.p3f` and returns (exit code, stderr); checks no picture
+/// was written.
+fn render_broken(dir: &Path) -> (Option<i32>, String) {
+    let out = dir.join("never.png");
+    let run = render_look(dir, "1 0 0", &out);
     assert!(!out.exists(), "a picture was written");
     (
         run.status.code(),

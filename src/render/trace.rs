@@ -290,30 +290,20 @@ impl<'a> Tracer<'a> {
             };
             rec.hit(ray, &record);
         }
-        let view = -ray.dir;
+        let at = Lit {
+            m,
+            diffuse,
+            above,
+            n,
+            ns,
+            view: -ray.dir,
+            depth,
+        };
         for (k, light) in self.lighting.lights.iter().enumerate() {
             if light.area.is_some() {
-                let at = Lit {
-                    m,
-                    diffuse,
-                    above,
-                    n,
-                    ns,
-                    view,
-                    depth,
-                };
                 color += self.area_light(k, light, &at, id, stats, rec);
                 continue;
             }
-            let at = Lit {
-                m,
-                diffuse,
-                above,
-                n,
-                ns,
-                view,
-                depth,
-            };
             let outcome = self.light_point(k, light.position, light.intensity, at, stats);
             if R::ENABLED {
                 rec.light(k, outcome);
