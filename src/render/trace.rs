@@ -290,8 +290,7 @@ impl<'a> Tracer<'a> {
             };
             rec.hit(ray, &record);
         }
-        // Made where it is used: kept across the loop, it costs registers (0.5 % more
-        // instructions on mount).
+        // Made where each light uses it: kept live across the loop it ties up registers.
         let at = || Lit {
             m,
             diffuse,
