@@ -276,7 +276,9 @@ fn pixel_key(x: u32, y: u32) -> u64 {
 pub fn sample_2d(x: u32, y: u32, s: u32, dim: Dim) -> (f32, f32) {
     let h = mix(mix(pixel_key(x, y)) ^ s as u64 ^ (dim.key() << 32));
     let scale = 1.0 / (1u32 << 24) as f32;
-    ((h >> 40) as f32 * scale, ((h >> 8) & 0xFF_FFFF) as f32 * scale)
+    // Through u32, exact for 24 bits: x86-64 has no single u64 -> f32 conversion.
+    let (hi, lo) = ((h >> 40) as u32, ((h >> 8) & 0xFF_FFFF) as u32);
+    (hi as f32 * scale, lo as f32 * scale)
 }
 
 /// Element `i` of a random permutation of `0..n` chosen by `seed` (`i < n`): a
@@ -291,7 +293,9 @@ pub fn permute(i: u32, n: u32, seed: u32) -> u32 {
         return 0;
     }
     let mask = n.next_power_of_two() - 1;
-    let bits = mask.count_ones();
+    // The bits of `mask` (all ones): by its leading zeros, as baseline x86-64 has no
+    // popcount instruction.
+    let bits = u32::BITS - mask.leading_zeros();
     let mut v = i;
     loop {
         v ^= seed & mask;
