@@ -5,7 +5,7 @@ mod ray;
 mod vec3;
 
 pub use aabb::Aabb;
-pub use ray::{Ray, TINY_DIR};
+pub use ray::{safe_recip, Ray, TINY_DIR};
 pub use vec3::Vec3;
 
 /// The floating-point type used crate-wide for geometry.

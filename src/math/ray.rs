@@ -43,11 +43,11 @@ pub const TINY_DIR: f32 = 1e-30;
 /// `1 / x`, finite for every finite `x`: tiny magnitudes (including zero) are raised
 /// to [`TINY_DIR`] with their sign kept.
 #[inline]
-fn safe_recip(x: f32) -> f32 {
-    if x.abs() < TINY_DIR {
-        1.0 / TINY_DIR.copysign(x)
+pub fn safe_recip(x: f32) -> f32 {
+    1.0 / if x.abs() < TINY_DIR {
+        TINY_DIR.copysign(x)
     } else {
-        1.0 / x
+        x
     }
 }
 

@@ -174,15 +174,17 @@ pub fn render_region(
                 // adds its samples in sample order, as `pixel_mean` does, so the sums
                 // are the very same.
                 let mut sums = vec![Vec3::ZERO; w];
-                let (mut rays, mut ids) = (Vec::with_capacity(w), Vec::with_capacity(w));
+                let (mut samples, mut ids) = (Vec::with_capacity(w), Vec::with_capacity(w));
+                let mut rays = Vec::with_capacity(w);
                 for k in 0..n {
-                    rays.clear();
+                    samples.clear();
                     ids.clear();
                     for x in x0..x0 + w as u32 {
                         let (sample, id) = sampler.sample(x, y, k);
-                        rays.push(camera.ray(&sample));
+                        samples.push(sample);
                         ids.push(id);
                     }
+                    camera.rays(&samples, &mut rays);
                     tracer.trace_eyes(&rays, &ids, st, |i, c| sums[i] += c * weight);
                 }
                 out.extend(sums);
