@@ -98,14 +98,7 @@ fn the_penumbra_of_a_straight_edge_matches_the_visible_fraction_of_a_quad_light(
         // light, so the n samples cover its n strata once each.
         let mut stats = Stats::default();
         for index in 0..n {
-            let id = SampleId {
-                x: k as u32,
-                y: 0,
-                index,
-                count: n,
-                stratified: true,
-                strata: nffrt::render::Strata::new(n),
-            };
+            let id = SampleId::new(k as u32, 0, index, n, true);
             let down = Ray::new(Vec3::new(x, 0.3, 0.5), Vec3::new(0.0, 0.0, -1.0));
             tracer.trace_eye(&down, &id, &mut stats);
         }

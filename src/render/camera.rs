@@ -148,8 +148,8 @@ impl Camera {
     }
 
     /// The eye rays of `samples`, in order, into `out` (cleared first): bit for bit
-    /// [`Camera::ray`] of each. With a lens they are worked out in blocks of
-    /// [`LANES`] samples without a branch, into one array per coordinate, which lets
+    /// [`Camera::ray`] of each. With a lens they are worked out in blocks of eight
+    /// samples without a branch, into one array per coordinate, which lets
     /// the compiler use vector instructions for the lens map's and the
     /// normalization's divisions and square roots, most of a lens ray's cost.
     pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Ray>) {

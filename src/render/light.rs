@@ -18,7 +18,7 @@
 use crate::math::Vec3;
 use crate::scene::Scene;
 
-use super::sampling::{sample_2d, Dim, SampleId};
+use super::sampling::{Dim, SampleId};
 
 /// One light of the scene with its intensity resolved.
 #[derive(Clone, Copy, Debug)]
@@ -77,7 +77,7 @@ impl LightSource {
             (None, _) => 1,
             _ if !plan.soft_shadows => 1,
             (Some(_), Some(n)) => n.max(1) * n.max(1),
-            (Some(_), None) if id.count > 1 => 1,
+            (Some(_), None) if id.count() > 1 => 1,
             (Some(area), None) => area.grid.max(1) * area.grid.max(1),
         }
     }
@@ -108,7 +108,7 @@ impl LightSource {
             light: index as u32,
             depth,
         };
-        let jittered = id.count > 1;
+        let jittered = id.count() > 1;
         let n = match plan.grid_override {
             Some(n) => n.max(1),
             None if jittered => {
@@ -120,8 +120,8 @@ impl LightSource {
         for j in 0..n {
             for i in 0..n {
                 let (du, dv) = if jittered {
-                    let cell = id.index.wrapping_mul(n * n).wrapping_add(j * n + i);
-                    sample_2d(id.x, id.y, cell, dim)
+                    let cell = id.index().wrapping_mul(n * n).wrapping_add(j * n + i);
+                    id.numbers(cell, dim)
                 } else {
                     (0.5, 0.5)
                 };
@@ -173,14 +173,7 @@ mod tests {
         // 16 eye samples: one point each, one in each cell of the 4 x 4 grid.
         let mut cells = [0; 16];
         for index in 0..16 {
-            let id = SampleId {
-                x: 9,
-                y: 2,
-                index,
-                count: 16,
-                stratified: true,
-                strata: crate::render::Strata::new(16),
-            };
+            let id = SampleId::new(9, 2, index, 16, true);
             let p = points(&quad(2), &PLAN, &id);
             assert_eq!(p.len(), 1);
             let (cx, cy) = (((p[0].x + 1.0) * 2.0) as usize, ((p[0].y + 1.0) * 2.0) as usize);

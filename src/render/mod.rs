@@ -20,7 +20,7 @@ pub use background::Background;
 pub use camera::{Camera, CameraSample};
 pub use light::{LightQuad, LightSampling, LightSource};
 pub use progressive::{render_preview, Accumulator};
-pub use sampling::{permute, sample_2d, Dim, PixelSampler, SampleId, Sampling, Strata};
+pub use sampling::{permute, sample_2d, Dim, PixelSampler, PixelSeeds, SampleId, Sampling, Strata};
 pub use shade::{schlick, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
@@ -174,13 +174,14 @@ pub fn render_region(
                 // adds its samples in sample order, as `pixel_mean` does, so the sums
                 // are the very same.
                 let mut sums = vec![Vec3::ZERO; w];
+                let pixels: Vec<_> = (x0..x0 + w as u32).map(|x| sampler.pixel(x, y)).collect();
                 let (mut samples, mut ids) = (Vec::with_capacity(w), Vec::with_capacity(w));
                 let mut rays = Vec::with_capacity(w);
                 for k in 0..n {
                     samples.clear();
                     ids.clear();
-                    for x in x0..x0 + w as u32 {
-                        let (sample, id) = sampler.sample(x, y, k);
+                    for pixel in &pixels {
+                        let (sample, id) = sampler.sample_of(pixel, k);
                         samples.push(sample);
                         ids.push(id);
                     }

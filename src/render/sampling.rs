@@ -116,10 +116,16 @@ impl Strata {
     /// centre for a single sample, otherwise a hashed point in stratum `s` (row-major).
     #[inline]
     pub fn position(&self, x: u32, y: u32, s: u32) -> (f32, f32) {
+        self.position_hashed(x, y, pixel_hash(x, y), s)
+    }
+
+    /// [`Strata::position`] with the pixel's [`pixel_hash`] worked out already.
+    #[inline(always)]
+    fn position_hashed(&self, x: u32, y: u32, hash: u64, s: u32) -> (f32, f32) {
         if self.samples() == 1 {
             return (x as f32 + 0.5, y as f32 + 0.5);
         }
-        let (u, v) = self.point(s, sample_2d(x, y, s, Dim::Pixel));
+        let (u, v) = self.point(s, hashed_2d(hash, s, Dim::Pixel));
         (x as f32 + u, y as f32 + v)
     }
 
@@ -153,6 +159,31 @@ impl PixelSampler {
     /// Sample `index` of pixel `(x, y)`: where its eye ray goes, and its id.
     #[inline(always)]
     pub fn sample(&self, x: u32, y: u32, index: u32) -> (CameraSample, SampleId) {
+        self.sample_of(&self.pixel(x, y), index)
+    }
+
+    /// The numbers that all samples of pixel `(x, y)` share, for
+    /// [`PixelSampler::sample_of`]: a caller taking several samples of a pixel works
+    /// them out once.
+    #[inline(always)]
+    pub fn pixel(&self, x: u32, y: u32) -> PixelSeeds {
+        PixelSeeds {
+            x,
+            y,
+            hash: pixel_hash(x, y),
+            lens_seed: if self.lens {
+                permutation_seed(x, y, Dim::Lens)
+            } else {
+                0
+            },
+        }
+    }
+
+    /// Sample `index` of `pixel` ([`PixelSampler::pixel`]): the same as
+    /// [`PixelSampler::sample`] of its coordinates.
+    #[inline(always)]
+    pub fn sample_of(&self, pixel: &PixelSeeds, index: u32) -> (CameraSample, SampleId) {
+        let &PixelSeeds { x, y, hash, .. } = pixel;
         let id = SampleId {
             x,
             y,
@@ -160,20 +191,32 @@ impl PixelSampler {
             count: self.count,
             stratified: self.stratified,
             strata: self.strata,
+            hash,
         };
         let raster = if self.stratified {
-            self.strata.position(x, y, index)
+            self.strata.position_hashed(x, y, hash, index)
         } else {
-            let (u, v) = sample_2d(x, y, index, Dim::Pixel);
+            let (u, v) = hashed_2d(hash, index, Dim::Pixel);
             (x as f32 + u, y as f32 + v)
         };
         let lens = if self.lens {
-            id.point(Dim::Lens)
+            id.point_seeded(Dim::Lens, pixel.lens_seed)
         } else {
             (0.5, 0.5)
         };
         (CameraSample { raster, lens }, id)
     }
+}
+
+/// What the samples of one pixel share ([`PixelSampler::pixel`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PixelSeeds {
+    x: u32,
+    y: u32,
+    /// [`pixel_hash`] of `(x, y)`.
+    hash: u64,
+    /// The lens dimension's [`permutation_seed`] (0 without a lens).
+    lens_seed: u32,
 }
 
 /// A dimension of the sample space: each draws its own numbers.
@@ -209,22 +252,43 @@ impl Dim {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SampleId {
     /// Pixel column (absolute, in the full image).
-    pub x: u32,
+    x: u32,
     /// Pixel row (absolute).
-    pub y: u32,
+    y: u32,
     /// Index of this sample among the pixel's.
-    pub index: u32,
+    index: u32,
     /// The pixel's number of samples (1: a single, centred sample).
-    pub count: u32,
+    count: u32,
     /// False for [`Sampling::Independent`]: no strata, every number independent.
-    pub stratified: bool,
+    stratified: bool,
     /// The strata of `count` samples ([`Strata::new`]`(count)`), worked out once per
     /// render.
-    pub strata: Strata,
+    strata: Strata,
+    /// [`pixel_hash`] of `(x, y)`, worked out once per pixel; 0 for a single
+    /// sample, which draws no numbers.
+    hash: u64,
 }
 
 impl SampleId {
+    /// Sample `index` of the `count` samples of pixel `(x, y)`, stratified or not
+    /// (as [`PixelSampler::sample`] makes them).
+    pub fn new(x: u32, y: u32, index: u32, count: u32, stratified: bool) -> SampleId {
+        if count <= 1 {
+            return SampleId::single(x, y);
+        }
+        SampleId {
+            x,
+            y,
+            index,
+            count,
+            stratified,
+            strata: Strata::new(count),
+            hash: pixel_hash(x, y),
+        }
+    }
+
     /// The single sample of pixel `(x, y)` (centres, SPD corners, `--pixel` probes).
+    #[inline]
     pub fn single(x: u32, y: u32) -> SampleId {
         SampleId {
             x,
@@ -233,7 +297,18 @@ impl SampleId {
             count: 1,
             stratified: true,
             strata: Strata { cols: 1, rows: 1 },
+            hash: 0,
         }
+    }
+
+    /// Index of this sample among its pixel's.
+    pub fn index(&self) -> u32 {
+        self.index
+    }
+
+    /// The pixel's number of samples (1: a single, centred sample).
+    pub fn count(&self) -> u32 {
+        self.count
     }
 
     /// A point of the unit square for dimension `dim`: with one sample per pixel its
@@ -245,14 +320,33 @@ impl SampleId {
         if self.count <= 1 {
             return (0.5, 0.5);
         }
-        let offset = sample_2d(self.x, self.y, self.index, dim);
+        self.point_seeded(dim, permutation_seed(self.x, self.y, dim))
+    }
+
+    /// [`sample_2d`] of this sample's pixel for number `s` (not necessarily the
+    /// sample's index) in dimension `dim`.
+    #[inline]
+    pub fn numbers(&self, s: u32, dim: Dim) -> (f32, f32) {
+        hashed_2d(self.hash, s, dim)
+    }
+
+    /// [`SampleId::point`] of a jittered sample (`count > 1`) with the permutation
+    /// seed of the pixel and `dim` ([`permutation_seed`]) worked out already.
+    #[inline(always)]
+    fn point_seeded(&self, dim: Dim, seed: u32) -> (f32, f32) {
+        let offset = hashed_2d(self.hash, self.index, dim);
         if !self.stratified {
             return offset;
         }
-        let seed = mix(pixel_key(self.x, self.y) ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407));
-        let stratum = permute(self.index, self.count, seed as u32);
+        let stratum = permute(self.index, self.count, seed);
         self.strata.point(stratum, offset)
     }
+}
+
+/// The seed of the permutation of pixel `(x, y)`'s strata in dimension `dim`.
+#[inline]
+fn permutation_seed(x: u32, y: u32, dim: Dim) -> u32 {
+    mix(pixel_key(x, y) ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407)) as u32
 }
 
 /// SplitMix64's output function (Steele, Lea and Flood 2014): a bijective 64-bit mix.
@@ -274,7 +368,19 @@ fn pixel_key(x: u32, y: u32) -> u64 {
 /// 24 bits each.
 #[inline]
 pub fn sample_2d(x: u32, y: u32, s: u32, dim: Dim) -> (f32, f32) {
-    let h = mix(mix(pixel_key(x, y)) ^ s as u64 ^ (dim.key() << 32));
+    hashed_2d(pixel_hash(x, y), s, dim)
+}
+
+/// The hash of pixel `(x, y)` that [`sample_2d`] starts from.
+#[inline]
+fn pixel_hash(x: u32, y: u32) -> u64 {
+    mix(pixel_key(x, y))
+}
+
+/// [`sample_2d`] with the pixel's [`pixel_hash`] worked out already.
+#[inline(always)]
+fn hashed_2d(pixel_hash: u64, s: u32, dim: Dim) -> (f32, f32) {
+    let h = mix(pixel_hash ^ s as u64 ^ (dim.key() << 32));
     let scale = 1.0 / (1u32 << 24) as f32;
     // Through u32, exact for 24 bits: x86-64 has no single u64 -> f32 conversion.
     let (hi, lo) = ((h >> 40) as u32, ((h >> 8) & 0xFF_FFFF) as u32);
@@ -408,14 +514,7 @@ mod tests {
             for dim in [Dim::Lens, Dim::Light { light: 3, depth: 2 }] {
                 let mut hits = vec![0; spp as usize];
                 for index in 0..spp {
-                    let id = SampleId {
-                        x: 17,
-                        y: 5,
-                        index,
-                        count: spp,
-                        stratified: true,
-                        strata,
-                    };
+                    let id = SampleId::new(17, 5, index, spp, true);
                     let (u, v) = id.point(dim);
                     let cell =
                         (v * strata.rows as f32) as u32 * strata.cols + (u * strata.cols as f32) as u32;

@@ -193,18 +193,19 @@ impl<'a> Tracer<'a> {
     /// colours to `out`. Ray `i` is the single sample of pixel `(x0 + i, y)`.
     pub fn trace_eye_row(&self, rays: &[Ray], (x0, y): (u32, u32), stats: &mut Stats, out: &mut Vec<Vec3>) {
         let mut hits = [None; PACKET];
-        let mut id = SampleId::single(x0, y);
+        let mut x = x0;
         for packet in rays.chunks(PACKET) {
             let hits = &mut hits[..packet.len()];
             self.bvh.closest_hit_packet(packet, f32::INFINITY, hits);
             for (ray, &found) in packet.iter().zip(hits.iter()) {
                 stats.eye_rays += 1;
+                let id = SampleId::single(x, y);
                 let color = match self.lighting.model {
                     Model::Spd => self.shade::<NoRecord, SpdRules>(ray, 1, found, &id, stats, &mut NoRecord),
                     Model::P3f => self.shade::<NoRecord, P3fRules>(ray, 1, found, &id, stats, &mut NoRecord),
                 };
                 out.push(finite_or_black(color));
-                id.x += 1;
+                x += 1;
             }
         }
     }
