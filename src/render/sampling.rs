@@ -249,7 +249,7 @@ impl Dim {
 
 /// The eye sample a ray tree belongs to: its pixel and its place among the pixel's
 /// samples, from which every later random choice of the tree is hashed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct SampleId {
     /// Pixel column (absolute, in the full image).
     x: u32,
@@ -264,8 +264,8 @@ pub struct SampleId {
     /// The strata of `count` samples ([`Strata::new`]`(count)`), worked out once per
     /// render.
     strata: Strata,
-    /// [`pixel_hash`] of `(x, y)`, worked out once per pixel; 0 for a single
-    /// sample, which draws no numbers.
+    /// [`pixel_hash`] of `(x, y)`, worked out once per pixel; a single sample draws
+    /// no numbers, and [`SampleId::single`] leaves it 0 (hence no `PartialEq`).
     hash: u64,
 }
 
