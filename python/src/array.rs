@@ -10,15 +10,12 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use nffrt::image::{encode_pfm, encode_png, encode_ppm, Image};
+use nffrt::image::{Image, ImageFormat, SOFTWARE_TEXT};
 use nffrt::math::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict};
 
 use crate::errors::{io_error, value_error};
-
-/// The PNG text chunk every nffrt PNG carries (as the command line writes it).
-const SOFTWARE_TEXT: (&str, &str) = ("Software", "nffrt");
 
 /// `image` as a new, writable numpy `float32` array of shape `(H, W, 3)`.
 pub fn to_array<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny>> {
@@ -65,49 +62,21 @@ pub fn from_array(py: Python<'_>, array: &Bound<'_, PyAny>) -> PyResult<Image> {
     Ok(Image::from_pixels(width, height, pixels))
 }
 
-/// An image file format, chosen by extension as the command line chooses it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FileFormat {
-    /// 8-bit RGB PNG.
-    Png,
-    /// Binary PPM (P6), 8-bit.
-    Ppm,
-    /// Little-endian colour PFM, linear floats.
-    Pfm,
+/// The format of `path` by its extension, as the command line chooses it.
+pub fn format_of(path: &Path) -> PyResult<ImageFormat> {
+    ImageFormat::from_extension(path).ok_or_else(|| value_error(ImageFormat::unknown(path)))
 }
 
-impl FileFormat {
-    /// The format of `path` by its extension (any case).
-    pub fn of(path: &Path) -> PyResult<FileFormat> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("png") => Ok(FileFormat::Png),
-            Some("ppm") => Ok(FileFormat::Ppm),
-            Some("pfm") => Ok(FileFormat::Pfm),
-            _ => Err(value_error(format!(
-                "{}: unknown image format (use .png, .ppm or .pfm)",
-                path.display()
-            ))),
-        }
-    }
-}
-
-/// `image` encoded in `format`.
-pub fn encode(image: &Image, format: FileFormat) -> Result<Vec<u8>, String> {
+/// `image` encoded in `format`, with the text chunk of the command line's PNGs.
+pub fn encode(image: &Image, format: ImageFormat) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
-    match format {
-        FileFormat::Png => encode_png(
+    format
+        .encode(
             image,
             &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
             &mut bytes,
         )
-        .map_err(|e| e.to_string()),
-        FileFormat::Ppm => encode_ppm(image, &mut bytes).map_err(|e| e.to_string()),
-        FileFormat::Pfm => encode_pfm(image, &mut bytes).map_err(|e| e.to_string()),
-    }?;
+        .map_err(|e| e.to_string())?;
     Ok(bytes)
 }
 

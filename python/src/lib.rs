@@ -22,8 +22,9 @@ use nffrt::nff::{write_nff, Format};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use array::{encode, from_array, write_atomically, FileFormat};
+use array::{encode, format_of, from_array, write_atomically};
 use errors::value_error;
+use nffrt::image::ImageFormat;
 use scene::PyScene;
 
 /// Reads the scene file at `path` (NFF, or P3F for a `.p3f` file or
@@ -72,7 +73,7 @@ fn gen(py: Python<'_>, name: &str, size: Option<u32>) -> PyResult<String> {
 /// not at all.
 #[pyfunction]
 fn save(py: Python<'_>, array: &Bound<'_, PyAny>, path: PathBuf) -> PyResult<()> {
-    let format = FileFormat::of(&path)?;
+    let format = format_of(&path)?;
     let image = from_array(py, array)?;
     let bytes = py.detach(|| encode(&image, format)).map_err(value_error)?;
     py.detach(|| write_atomically(&path, &bytes))
@@ -84,7 +85,7 @@ fn save(py: Python<'_>, array: &Bound<'_, PyAny>, path: PathBuf) -> PyResult<()>
 fn to_png<'py>(py: Python<'py>, array: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyBytes>> {
     let image = from_array(py, array)?;
     let png = py
-        .detach(|| encode(&image, FileFormat::Png))
+        .detach(|| encode(&image, ImageFormat::Png))
         .map_err(value_error)?;
     Ok(PyBytes::new(py, &png))
 }

@@ -1,46 +1,20 @@
 //! Where `nffrt render` and `nffrt merge` put images: the format chosen by the file
-//! extension, `-` for PNG on standard output, and the PNG text chunks they carry.
+//! extension ([`ImageFormat`]), `-` for PNG on standard output, files written whole
+//! or not at all.
 
 use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
 use super::output::{cannot_write, AtomicOutput};
 use super::CliError;
-use nffrt::image::{encode_pfm, encode_png, encode_png_rgb8, encode_ppm, Image};
-
-/// The text chunk every nffrt PNG carries (a tile adds its own, a merged image has
-/// exactly this one, like a full render).
-pub const SOFTWARE_TEXT: (&str, &str) = ("Software", "nffrt");
-
-/// An output image format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// 8-bit RGB PNG.
-    Png,
-    /// Binary PPM (P6), 8-bit.
-    Ppm,
-    /// Little-endian colour PFM, linear floats.
-    Pfm,
-}
+use nffrt::image::{encode_png_rgb8, png_error, Image, ImageFormat};
 
 /// The format of `path` by its extension; `-` (standard output) is PNG.
-pub fn format_of(path: &Path) -> Result<Format, CliError> {
+pub fn format_of(path: &Path) -> Result<ImageFormat, CliError> {
     if is_stdout(path) {
-        return Ok(Format::Png);
+        return Ok(ImageFormat::Png);
     }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("png") => Ok(Format::Png),
-        Some("ppm") => Ok(Format::Ppm),
-        Some("pfm") => Ok(Format::Pfm),
-        _ => Err(CliError::usage(format!(
-            "{}: unknown image format (use .png, .ppm or .pfm)",
-            path.display()
-        ))),
-    }
+    ImageFormat::from_extension(path).ok_or_else(|| CliError::usage(ImageFormat::unknown(path)))
 }
 
 /// True for `-`, standard output.
@@ -82,12 +56,13 @@ impl Destination {
     }
 
     /// Encodes `image` and completes the output. `text` goes into PNG text chunks.
-    pub fn write_image(self, image: &Image, format: Format, text: &[(&str, String)]) -> Result<(), CliError> {
-        self.write_with(|w| match format {
-            Format::Png => encode_png(image, text, w).map_err(png_error),
-            Format::Ppm => encode_ppm(image, w),
-            Format::Pfm => encode_pfm(image, w),
-        })
+    pub fn write_image(
+        self,
+        image: &Image,
+        format: ImageFormat,
+        text: &[(&str, String)],
+    ) -> Result<(), CliError> {
+        self.write_with(|w| format.encode(image, text, w))
     }
 
     /// Encodes raw 8-bit RGB as PNG and completes the output.
@@ -120,12 +95,5 @@ impl Destination {
                 }
             }
         }
-    }
-}
-
-fn png_error(e: png::EncodingError) -> io::Error {
-    match e {
-        png::EncodingError::IoError(e) => e,
-        e => io::Error::other(e.to_string()),
     }
 }

@@ -10,13 +10,14 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::image_out::{display_name, format_of, Destination, Format, SOFTWARE_TEXT};
+use super::image_out::{display_name, format_of, Destination};
 use super::output::brief;
 use super::CliError;
 use nffrt::image::decode_png;
 use nffrt::image::tiles::{
     merge_tiles, parse_region_text, Tile, TileFingerprint, FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
 };
+use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
 
 /// Arguments of `nffrt merge`.
 #[derive(Args, Debug)]
@@ -34,7 +35,7 @@ pub struct MergeArgs {
 
 /// Runs `nffrt merge`.
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
-    if format_of(&args.output)? != Format::Png {
+    if format_of(&args.output)? != ImageFormat::Png {
         return Err(CliError::usage(format!(
             "{}: merged images are PNG (tiles hold 8-bit pixels)",
             args.output.display()

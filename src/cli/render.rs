@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::image_out::{display_name, format_of, is_stdout, Destination, Format, SOFTWARE_TEXT};
+use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
 use super::load::{build_bvh, load_scene_with, print_warnings, Fingerprint};
 use super::output::{cannot_write, AtomicOutput};
@@ -17,6 +17,7 @@ use super::{interrupt, pixel, CliError};
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
+use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
 use nffrt::nff::MAX_RESOLUTION;
 use nffrt::prepared::image_size;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, DEFAULT_MAX_DEPTH};
@@ -166,7 +167,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
-    if args.region.is_some() && format != Format::Png {
+    if args.region.is_some() && format != ImageFormat::Png {
         return Err(CliError::usage(format!(
             "{}: --region writes PNG tiles (their place is kept in a PNG text chunk)",
             out_path.display()

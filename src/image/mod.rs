@@ -7,6 +7,7 @@
 //! mapping and keeps the linear values as they are.
 
 mod bands;
+mod format;
 mod framebuffer;
 mod pfm;
 mod png;
@@ -17,6 +18,7 @@ pub mod tiles;
 
 pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};
 pub use bands::bands;
+pub use format::{png_error, ImageFormat, SOFTWARE_TEXT};
 pub use framebuffer::{quantize, Image};
 pub use pfm::{decode_pfm, encode_pfm};
 pub use ppm::{decode_ppm, encode_ppm};
