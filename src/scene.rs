@@ -376,15 +376,22 @@ impl Scene {
         &self.mesh_triangles[m.first_triangle as usize..(m.first_triangle + m.triangle_count) as usize]
     }
 
+    /// The number of primitives of each kind outside meshes, named as `nffrt info`
+    /// names them.
+    pub fn kind_counts(&self) -> [(&'static str, usize); 6] {
+        [
+            ("spheres", self.spheres.len()),
+            ("polygons", self.polygons.len()),
+            ("patches", self.patches.len()),
+            ("cones", self.cones.len()),
+            ("planes", self.planes.len()),
+            ("boxes", self.boxes.len()),
+        ]
+    }
+
     /// Number of primitives: bounded ones, planes and mesh triangles.
     pub fn primitive_count(&self) -> usize {
-        self.spheres.len()
-            + self.cones.len()
-            + self.polygons.len()
-            + self.patches.len()
-            + self.planes.len()
-            + self.boxes.len()
-            + self.mesh_triangles.len()
+        self.kind_counts().iter().map(|&(_, n)| n).sum::<usize>() + self.mesh_triangles.len()
     }
 
     /// Appends the primitives, their vertices and the lights of `other`, a scene

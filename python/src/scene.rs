@@ -17,9 +17,10 @@ use nffrt::PreparedScene;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
-use crate::array::{encode, to_array, FileFormat};
+use crate::array::{encode, to_array};
 use crate::errors::{io_error, load_error, render_error, value_error};
 use crate::run::{pool, without_gil};
+use nffrt::image::ImageFormat;
 
 /// The longest side of the picture `_repr_png_` renders.
 const PREVIEW_SIDE: u32 = 256;
@@ -287,19 +288,13 @@ impl PyScene {
     fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.prepared.scene();
         let d = PyDict::new(py);
-        for (key, n) in [
-            ("spheres", s.spheres.len()),
-            ("cones", s.cones.len()),
-            ("polygons", s.polygons.len()),
-            ("patches", s.patches.len()),
-            ("planes", s.planes.len()),
-            ("boxes", s.boxes.len()),
+        for (key, n) in s.kind_counts().into_iter().chain([
             ("meshes", s.meshes.len()),
             ("mesh_triangles", s.mesh_triangles.len()),
             ("primitives", s.primitive_count()),
             ("lights", s.lights.len()),
             ("materials", s.materials.len()),
-        ] {
+        ]) {
             d.set_item(key, n)?;
         }
         Ok(d)
@@ -371,7 +366,7 @@ impl PyScene {
         let side = |n: u32| ((n as f64 * scale).round() as u32).max(1);
         let opts = self.options(Some(side(w)), Some(side(h)), Some(1), 5, false, None, None)?;
         let image = self.render_image(py, &opts, None, None)?;
-        let png = encode(&image, FileFormat::Png).map_err(value_error)?;
+        let png = encode(&image, ImageFormat::Png).map_err(value_error)?;
         Ok(PyBytes::new(py, &png))
     }
 

@@ -183,14 +183,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     );
     outln!("materials   {}", s.materials.len());
     outln!("primitives  {}", s.primitive_count());
-    for (name, n) in [
-        ("spheres", s.spheres.len()),
-        ("polygons", s.polygons.len()),
-        ("patches", s.patches.len()),
-        ("cones", s.cones.len()),
-        ("planes", s.planes.len()),
-        ("boxes", s.boxes.len()),
-    ] {
+    for (name, n) in s.kind_counts() {
         if n > 0 {
             outln!("  {name:<10}{n}");
         }
