@@ -7,7 +7,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{field, info_json, json_of, nffrt, scratch_dir};
+use common::{field, info_json, json_of, nffrt, scratch_dir, tokens_without_comments};
 
 /// The P3F scenes under `../shared/scenes/p3f/`, or `None` (after a note) without it.
 fn p3f_scenes() -> Option<Vec<PathBuf>> {
@@ -60,10 +60,7 @@ struct Counts {
 /// so NT is also the triangle count the renderer keeps.
 fn count_tokens(bytes: &[u8]) -> Counts {
     let text = String::from_utf8_lossy(bytes);
-    let tokens: Vec<&str> = text
-        .lines()
-        .flat_map(|line| line.split('#').next().unwrap_or("").split_whitespace())
-        .collect();
+    let tokens = tokens_without_comments(&text);
     let whole = |i: usize| -> u64 {
         tokens[i]
             .parse()

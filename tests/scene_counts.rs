@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{field, info_json, json_of, nffrt, shared_scenes, warnings};
+use common::{field, info_json, json_of, nffrt, shared_scenes, tokens_without_comments, warnings};
 
 /// What the independent counter finds in a scene.
 #[derive(Debug, Default, PartialEq)]
@@ -30,10 +30,7 @@ struct Counts {
 /// table entry is merged into it, and an object before any `f` adds the default material.
 fn count_tokens(bytes: &[u8]) -> Counts {
     let text = String::from_utf8_lossy(bytes);
-    let tokens: Vec<&str> = text
-        .lines()
-        .flat_map(|line| line.split('#').next().unwrap_or("").split_whitespace())
-        .collect();
+    let tokens = tokens_without_comments(&text);
     let number = |i: usize| -> f32 {
         tokens[i]
             .parse()

@@ -139,3 +139,11 @@ pub fn name(path: &Path) -> String {
 }
 
 pub mod compare;
+
+/// The whitespace-separated tokens of a scene's text with `#` comments stripped: all
+/// the independent entity counters of the tests need (they never parse a scene).
+pub fn tokens_without_comments(text: &str) -> Vec<&str> {
+    text.lines()
+        .flat_map(|line| line.split('#').next().unwrap_or("").split_whitespace())
+        .collect()
+}
