@@ -125,8 +125,9 @@ impl Accumulator {
                 row.copy_from_slice(&values);
             } else if let Some(sampler) = &sampler {
                 for (x, sum) in row.iter_mut().enumerate() {
+                    let pixel = sampler.pixel(x as u32, y);
                     for s in first..end {
-                        let (sample, id) = sampler.sample(x as u32, y, s);
+                        let (sample, id) = sampler.sample_of(&pixel, s);
                         *sum += tracer.trace_eye(&camera.ray(&sample), &id, st) * weight;
                     }
                 }
