@@ -33,6 +33,7 @@ pub mod fingerprint;
 pub mod gen;
 pub mod geometry;
 pub mod image;
+pub mod limits;
 pub mod load;
 pub mod math;
 pub mod nff;

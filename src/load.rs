@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::image::skybox::{CubeFace, FaceImage, Skybox};
+use crate::limits::MAX_FACE_TEXELS;
 use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
 use crate::scene::Scene;
 
@@ -121,9 +122,6 @@ pub fn resolve(scene: &mut Scene, name: &str, dir: &Path) -> Result<(), LoadErro
     env.skybox = Some(Arc::new(load_skybox(&folder, &named_at)?));
     Ok(())
 }
-
-/// The largest skybox face accepted, in texels (a 16384 x 16384 image).
-pub const MAX_FACE_TEXELS: u64 = 1 << 28;
 
 /// Decodes the six faces in `folder` (`right left top bottom front back`, each a
 /// `.jpg`, `.jpeg` or `.png`), in parallel. `context` says where the scene named it.

@@ -22,20 +22,9 @@ use thiserror::Error;
 use crate::accel::Bvh;
 use crate::geometry::build_geometry;
 use crate::image::{Image, Region};
-use crate::nff::MAX_RESOLUTION;
+use crate::limits::{eye_grid_points, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
 use crate::render::{render_region, Observer, RenderOptions, Sampling, Silent, Stats};
 use crate::scene::Scene;
-
-/// The deepest ray tree a prepared scene renders (the eye ray is depth 1): the
-/// recursion stays far from the stack limit of rayon's worker threads.
-pub const MAX_DEPTH: u32 = 64;
-/// The most samples per pixel accepted.
-pub const MAX_SPP: u32 = 4096;
-/// The most eye-ray grid points one render may have (a region's pixels, or its
-/// corners with the SPD protocol): 8192 x 8192, about 1.6 GB while rendering.
-pub const MAX_PIXELS: u64 = 1 << 26;
-/// The largest area-light grid side accepted.
-pub const MAX_LIGHT_SAMPLES: u32 = 64;
 
 /// Why a prepared scene did not render.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -154,12 +143,9 @@ pub fn check_options(opts: &RenderOptions, region: &Region) -> Result<(), String
             "region {r} is empty or does not fit in the {w}x{h} image (X1 and Y1 are exclusive)"
         ));
     }
-    let (rw, rh) = (r.width() as u64, r.height() as u64);
-    let grid = match opts.sampling {
-        Sampling::SpdCorners => (rw + 1) * (rh + 1),
-        _ => rw * rh,
-    };
+    let grid = eye_grid_points(r.width(), r.height(), opts.sampling);
     if grid > MAX_PIXELS {
+        let (rw, rh) = (r.width(), r.height());
         return Err(format!(
             "{rw}x{rh} is {grid} eye-ray grid points, more than the limit of {MAX_PIXELS} (render it in tiles)"
         ));

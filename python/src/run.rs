@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
+use nffrt::limits::MAX_THREADS;
 use nffrt::render::Observer;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -19,9 +20,6 @@ use rayon::ThreadPool;
 
 /// How often the waiting thread checks for signals.
 const POLL: Duration = Duration::from_millis(50);
-/// The most worker threads one call may ask for (the command line's cap).
-pub const MAX_THREADS: usize = 1024;
-
 /// The renderer's observer: cancelled once a signal handler raised.
 pub struct Cancel(AtomicBool);
 
@@ -43,7 +41,7 @@ pub fn pool(threads: Option<usize>) -> PyResult<Option<ThreadPool>> {
     let Some(n) = threads else {
         return Ok(None);
     };
-    if !(1..=MAX_THREADS).contains(&n) {
+    if !(1..=MAX_THREADS as usize).contains(&n) {
         return Err(PyValueError::new_err(format!(
             "threads={n}: the count goes from 1 to {MAX_THREADS}"
         )));

@@ -10,11 +10,11 @@ use rayon::prelude::*;
 use super::limits::RenderLimitArgs;
 use super::load::{load_scene_with, Fingerprint};
 use super::output::brief;
-use super::render::MAX_THREADS;
 use super::values::whole_number;
 use super::CliError;
 use nffrt::accel::{Bvh, PACKET};
 use nffrt::geometry::build_geometry;
+use nffrt::limits::MAX_THREADS;
 use nffrt::math::{Ray, Vec3};
 use nffrt::render::{Camera, RenderOptions, Sampling};
 

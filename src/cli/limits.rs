@@ -7,14 +7,12 @@ use clap::Args;
 
 use super::values::whole_number;
 use super::CliError;
-use nffrt::nff::{Format, Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
+use nffrt::limits::{
+    eye_grid_points, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_SCENE_BYTES,
+    DEFAULT_MAX_VERTICES, MAX_PIXELS,
+};
+use nffrt::nff::{Format, Limits};
 use nffrt::render::Sampling;
-
-/// Default of `--max-scene-bytes`: 2 GiB of NFF text.
-pub const DEFAULT_MAX_SCENE_BYTES: u64 = 2 << 30;
-/// Default of `--max-pixels`: 64 Mi eye-ray grid points (8192 x 8192), about 1.6 GB
-/// of float image while rendering.
-pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
 
 /// How a scene file is read, and the limits on what it may make nffrt read and build.
 #[derive(Args, Debug, Clone)]
@@ -89,7 +87,7 @@ pub struct RenderLimitArgs {
     #[command(flatten)]
     pub scene: SceneLimitArgs,
     /// Refuse to render more than N pixels (counting the (w+1) x (h+1) corners with --spd).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS,
+    #[arg(long, value_name = "N", default_value_t = MAX_PIXELS,
           allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_pixels: u64,
 }
@@ -106,14 +104,10 @@ impl RenderLimitArgs {
         sampling: Sampling,
         from_flags: bool,
     ) -> Result<(), CliError> {
-        let (w, h) = (width as u64, height as u64);
-        let grid = match sampling {
-            Sampling::PixelCenters | Sampling::Stratified { .. } | Sampling::Independent { .. } => w * h,
-            Sampling::SpdCorners => (w + 1) * (h + 1),
-        };
+        let grid = eye_grid_points(width, height, sampling);
         if grid > self.max_pixels {
             let message = format!(
-                "{w}x{h} is {grid} pixels, more than the limit of {} (--max-pixels raises it; \
+                "{width}x{height} is {grid} pixels, more than the limit of {} (--max-pixels raises it; \
                  the image takes about 24 bytes per pixel while rendering)",
                 self.max_pixels
             );

@@ -18,17 +18,10 @@ use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
-use nffrt::nff::MAX_RESOLUTION;
+use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::prepared::image_size;
-use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling, DEFAULT_MAX_DEPTH};
+use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling};
 use nffrt::Scene;
-
-/// The deepest ray tree allowed (keeps the recursion far from the stack limit).
-pub const MAX_DEPTH_CAP: u32 = 64;
-/// The most samples per pixel `--spp` accepts.
-pub const MAX_SPP: u32 = 4096;
-/// The most worker threads `--threads` accepts.
-pub const MAX_THREADS: u32 = 1024;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
@@ -53,7 +46,7 @@ pub struct RenderArgs {
     pub height: Option<u32>,
     /// Maximum ray-tree depth, 1 to 64; the eye ray is depth 1.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH, allow_negative_numbers = true,
-          value_parser = whole_number::<u32>(1, MAX_DEPTH_CAP as u64))]
+          value_parser = whole_number::<u32>(1, MAX_DEPTH as u64))]
     pub max_depth: u32,
     /// Worker threads for parsing (files of 1 MiB or more), building and rendering,
     /// 1 to 1024 (default: one per core).
@@ -80,7 +73,7 @@ pub struct RenderArgs {
     /// Sample every area light on an N x N grid at every hit, whatever the sampling
     /// (default: the light's own grid with one sample per pixel, one point per
     /// sample with more); 1 to 64.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_LIGHT_SAMPLES as i64))]
     pub light_samples: Option<u32>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;

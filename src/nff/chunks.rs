@@ -365,7 +365,7 @@ s 3 3 3 0.5 # end
 
     #[test]
     fn warnings_past_the_cap_are_counted_across_pieces() {
-        use super::super::limits::MAX_WARNINGS;
+        use crate::limits::MAX_WARNINGS;
         let mut src = String::from(
             "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\nf 1 1 1 1 0 1 0 1\n",
         );

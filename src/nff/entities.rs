@@ -3,8 +3,9 @@
 
 use super::error::ParseError;
 use super::lexer::Token;
-use super::parser::{invalid, loc, Loc, Parser, MAX_RESOLUTION};
+use super::parser::{invalid, loc, Loc, Parser};
 use super::Format;
+use crate::limits::MAX_RESOLUTION;
 use crate::math::Vec3;
 use crate::scene::{AngleSpan, BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Sphere, View};
 

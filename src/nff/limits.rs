@@ -8,8 +8,10 @@
 //! The defaults are far above the largest SPD scenes (about 1.2 million primitives
 //! at the sizes the SPD suggests) and keep a render of a file within a few gigabytes.
 
+use crate::limits::{DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES};
+
 /// How much one file may describe. [`Limits::default`] gives the defaults documented
-/// in `docs/command-line.md`; `nffrt` raises them with `--max-primitives`, `--max-vertices` and
+/// in `docs/command-line.md` (the constants of [`crate::limits`]); `nffrt` raises them with `--max-primitives`, `--max-vertices` and
 /// `--max-lights`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
@@ -41,19 +43,10 @@ impl Default for Limits {
     }
 }
 
-/// Default of [`Limits::max_primitives`] (the same as [`crate::gen::MAX_PRIMITIVES`]).
-pub const DEFAULT_MAX_PRIMITIVES: usize = 10_000_000;
-/// Default of [`Limits::max_vertices`].
-pub const DEFAULT_MAX_VERTICES: usize = 40_000_000;
-/// Default of [`Limits::max_lights`].
-pub const DEFAULT_MAX_LIGHTS: usize = 100_000;
-
-/// The most warnings a scene keeps; past it one final warning gives the number left out.
-pub const MAX_WARNINGS: usize = 1000;
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::limits::MAX_WARNINGS;
     use crate::nff::parse_bytes_with;
 
     const SPHERES: &[u8] = b"f 1 1 1 1 0 1 0 1\ns 0 0 0 1\ns 1 0 0 1\ns 2 0 0 1\n";

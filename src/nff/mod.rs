@@ -29,10 +29,8 @@ mod writer;
 
 pub use error::{ParseError, ParseErrorKind};
 pub use lexer::{Lexer, Token};
-pub use limits::{Limits, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_VERTICES, MAX_WARNINGS};
-pub use parser::{
-    parse, parse_bytes, parse_bytes_with, parse_format, parse_format_cancellable, MAX_RESOLUTION,
-};
+pub use limits::Limits;
+pub use parser::{parse, parse_bytes, parse_bytes_with, parse_format, parse_format_cancellable};
 
 /// The language of a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

@@ -7,12 +7,7 @@ use super::parser::{invalid, loc, parse_f32, Loc, Parser};
 use crate::math::Vec3;
 use crate::scene::{Accel, BoxPrim, Environment, Light, LightArea, Mesh, MeshTriangle, Plane};
 
-/// Grid side of an `al` area light (P3F 2019 gives none): 16 points with one eye
-/// sample per pixel.
-pub const AREA_LIGHT_GRID: u32 = 4;
-
-/// The most samples per pixel a file may ask for (as `--spp`).
-pub const MAX_FILE_SPP: u32 = 4096;
+use crate::limits::{AREA_LIGHT_GRID, MAX_SPP};
 
 impl Parser<'_> {
     /// `env FOLDER`: a skybox, the six images `right left top bottom front back`
@@ -228,8 +223,8 @@ impl Parser<'_> {
     pub(super) fn samples_per_pixel(&mut self, _kw: &Token) -> Result<(), ParseError> {
         self.saw_p3f_2025 = true;
         let (n, at) = self.count("samples per pixel")?;
-        if n > MAX_FILE_SPP {
-            return Err(invalid(at, format!("spp {n} is more than {MAX_FILE_SPP}")));
+        if n > MAX_SPP {
+            return Err(invalid(at, format!("spp {n} is more than {MAX_SPP}")));
         }
         self.scene.spp = Some(n);
         Ok(())

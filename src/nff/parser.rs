@@ -10,14 +10,12 @@ use super::chunks;
 use super::error::{ParseError, ParseErrorKind};
 use super::keywords;
 use super::lexer::{Lexer, Token};
-use super::limits::{Limits, MAX_WARNINGS};
+use super::limits::Limits;
 use super::text;
 use super::Format;
+use crate::limits::MAX_WARNINGS;
 use crate::math::Vec3;
 use crate::scene::{AngleSpan, Dialect, Material, Scene, Warning};
-
-/// The largest image side a file may ask for.
-pub const MAX_RESOLUTION: u32 = 32768;
 
 /// Parses NFF text into a scene. Errors carry the line and column of the offending token.
 ///

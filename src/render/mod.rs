@@ -29,6 +29,7 @@ use rayon::prelude::*;
 
 use crate::accel::Bvh;
 use crate::image::{Image, Region};
+use crate::limits::DEFAULT_MAX_DEPTH;
 use crate::math::{Ray, Vec3};
 use crate::scene::Scene;
 
@@ -80,9 +81,6 @@ impl RenderOptions {
         }
     }
 }
-
-/// The default maximum ray depth (the SPD's).
-pub const DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Watches a render as it runs: progress reports, the finished pixels, cancellation.
 /// Rows finish in any order and on any of the render's threads.

@@ -48,7 +48,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub no_open: bool,
     /// Samples per pixel to converge to (default: the file's `spp`, else 16).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=protocol::MAX_SPP as i64))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=nffrt::limits::MAX_SPP as i64))]
     pub spp: Option<u32>,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]

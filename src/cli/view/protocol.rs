@@ -14,18 +14,12 @@
 
 use serde::{Deserialize, Serialize};
 
+use nffrt::limits::{eye_grid_points, MAX_DEPTH, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
+use nffrt::render::Sampling;
 use nffrt::scene::View;
 
 /// The largest text message accepted; longer ones get an error reply.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
-/// The deepest ray tree a request may ask for (as `render --max-depth`).
-pub const MAX_DEPTH: u32 = 64;
-/// The most samples per pixel a request may ask for (as `render --spp`).
-pub const MAX_SPP: u32 = 4096;
-/// The widest or tallest picture a request may ask for.
-pub const MAX_SIDE: u32 = 4096;
-/// The most pixels a request may ask for (the accumulator takes 12 bytes a pixel).
-pub const MAX_PIXELS: u64 = 4096 * 4096;
 
 /// A camera as the page moves it: the view's position, target, up and angle.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -248,13 +242,13 @@ fn check_camera(c: &CameraMsg) -> Result<(), String> {
 }
 
 fn check_options(o: &OptionsMsg) -> Result<(), String> {
-    if !(1..=MAX_SIDE).contains(&o.width) || !(1..=MAX_SIDE).contains(&o.height) {
+    if !(1..=MAX_RESOLUTION).contains(&o.width) || !(1..=MAX_RESOLUTION).contains(&o.height) {
         return Err(format!(
-            "bad options: {}x{} (each side 1 to {MAX_SIDE})",
+            "bad options: {}x{} (each side 1 to {MAX_RESOLUTION})",
             o.width, o.height
         ));
     }
-    if o.width as u64 * o.height as u64 > MAX_PIXELS {
+    if eye_grid_points(o.width, o.height, Sampling::PixelCenters) > MAX_PIXELS {
         return Err(format!("bad options: more than {MAX_PIXELS} pixels"));
     }
     if !(1..=MAX_DEPTH).contains(&o.max_depth) {
@@ -337,7 +331,9 @@ mod tests {
         assert!(with(&|c, _| c.from[0] = 1e38).unwrap_err().contains("finite"));
         assert!(with(&|_, o| o.spp = 0).unwrap_err().contains("spp"));
         assert!(with(&|_, o| o.max_depth = 65).unwrap_err().contains("max_depth"));
-        assert!(with(&|_, o| o.width = MAX_SIDE + 1).unwrap_err().contains("side"));
+        assert!(with(&|_, o| o.width = MAX_RESOLUTION + 1)
+            .unwrap_err()
+            .contains("side"));
         assert!(with(&|_, _| ()).is_ok());
     }
 

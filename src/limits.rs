@@ -1,0 +1,59 @@
+//! Every limit and default of nffrt in one place: what a scene file may describe,
+//! what one render may ask for, and the defaults a render takes when neither the
+//! file nor the caller says. The parser, the renderer, the command line, the viewer
+//! and the Python bindings all read them from here, so each is written once.
+
+use crate::render::Sampling;
+
+// What a scene file may make the parser allocate (`nff::Limits`; raised on the
+// command line by `--max-primitives`, `--max-vertices`, `--max-lights`).
+
+/// Default of `nff::Limits::max_primitives` (the same as [`crate::gen::MAX_PRIMITIVES`]).
+pub const DEFAULT_MAX_PRIMITIVES: usize = 10_000_000;
+/// Default of `nff::Limits::max_vertices`.
+pub const DEFAULT_MAX_VERTICES: usize = 40_000_000;
+/// Default of `nff::Limits::max_lights`.
+pub const DEFAULT_MAX_LIGHTS: usize = 100_000;
+/// The most warnings a scene keeps; past it one final warning gives the number left out.
+pub const MAX_WARNINGS: usize = 1000;
+/// Default of `--max-scene-bytes`: 2 GiB of scene text.
+pub const DEFAULT_MAX_SCENE_BYTES: u64 = 2 << 30;
+/// The largest skybox face accepted, in texels (a 16384 x 16384 image).
+pub const MAX_FACE_TEXELS: u64 = 1 << 28;
+
+// What one render may ask for.
+
+/// The largest image side, in the file's `resolution` and in every render.
+pub const MAX_RESOLUTION: u32 = 32768;
+/// The most samples per pixel, from a file's `spp` or a caller.
+pub const MAX_SPP: u32 = 4096;
+/// The deepest ray tree (the eye ray is depth 1): the recursion stays far from the
+/// stack limit of rayon's worker threads.
+pub const MAX_DEPTH: u32 = 64;
+/// The largest area-light grid side (`--light-samples`).
+pub const MAX_LIGHT_SAMPLES: u32 = 64;
+/// Default of `--max-pixels`, and the most eye-ray grid points any render may have
+/// (see [`eye_grid_points`]): 64 Mi (8192 x 8192), about 1.6 GB of float image while
+/// rendering.
+pub const MAX_PIXELS: u64 = 1 << 26;
+/// The most worker threads a caller may ask for.
+pub const MAX_THREADS: u32 = 1024;
+
+// Defaults.
+
+/// The default maximum ray-tree depth (the SPD's).
+pub const DEFAULT_MAX_DEPTH: u32 = 5;
+/// Grid side of a P3F 2019 `al` area light, whose file gives none: 16 points with
+/// one eye sample per pixel.
+pub const AREA_LIGHT_GRID: u32 = 4;
+
+/// The eye-ray grid points of a `width` x `height` render (or region) under
+/// `sampling`: one per pixel, or the `(w + 1) x (h + 1)` pixel corners of the SPD
+/// protocol. The one rule every pixel limit is checked by.
+pub fn eye_grid_points(width: u32, height: u32, sampling: Sampling) -> u64 {
+    let (w, h) = (width as u64, height as u64);
+    match sampling {
+        Sampling::SpdCorners => (w + 1) * (h + 1),
+        _ => w * h,
+    }
+}
