@@ -1,24 +1,23 @@
-//! # nffrt — a fast, correct Whitted ray tracer for NFF scenes
+//! # nffrt — a fast, correct ray tracer for NFF and P3F scenes
 //!
 //! NFF (Eric Haines' Neutral File Format) is the scene format of the Standard
-//! Procedural Databases, and P3F, the extended NFF of the IST course that builds on
-//! it. The pipeline: [`nff::parse`] text into a [`Scene`] ([`load`] reads a file and
-//! the images it names);
-//! [`geometry::build_geometry`] converts it into render-time primitives;
-//! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
-//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes, at sizes up to 10 million primitives.
-//! [`PreparedScene`] owns a scene and its BVH, built once, and renders it with
-//! checked options (the one object the Python bindings hold).
-//! [`render::render_region`] traces a crop with exactly the full render's pixels,
-//! and [`image::tiles`] assembles such crops; [`render::debug::trace_pixel`] keeps
-//! the ray tree of one pixel.
+//! Procedural Databases, and P3F the extended NFF of the IST course that builds on
+//! it. The pipeline, one direction of travel: [`load`] reads a scene (parsed by
+//! [`nff`] into a [`Scene`]) and the images it names; [`prepare()`] makes it a
+//! [`RenderScene`] — the render-time primitives ([`geometry`]) in an acceleration
+//! structure ([`accel`]), the materials, light sources, background and shading
+//! rules — built once; [`render`] traces images of it, each with its own camera and
+//! options ([`render::render_region`]: a crop with exactly the full render's
+//! pixels; [`render::debug::trace_pixel`]: one pixel's ray tree); [`image`] encodes
+//! them and assembles tiles. [`limits`] holds every limit and default; [`gen`] makes
+//! the SPD's classic scenes, at sizes up to 10 million primitives.
 //!
 //! ```
-//! use nffrt::{accel::Bvh, geometry::build_geometry, render::{render, RenderOptions}};
+//! use nffrt::{load::Assets, prepare, render::{render, RenderOptions}};
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
 //!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
-//! let bvh = Bvh::new(build_geometry(&scene));
-//! let (image, stats) = render(&scene, &bvh, &RenderOptions::from_scene(&scene));
+//! let scene = prepare(scene, &Assets::default());
+//! let (image, stats) = render(&scene, scene.view(), &RenderOptions::from_view(scene.view()));
 //! assert_eq!(stats.eye_rays, 64);
 //! assert!(image.get(4, 4).x > 0.5); // the sphere fills the centre
 //! ```
@@ -37,11 +36,11 @@ pub mod limits;
 pub mod load;
 pub mod math;
 pub mod nff;
-pub mod prepared;
+pub mod prepare;
 pub mod render;
 pub mod scene;
 
-pub use prepared::PreparedScene;
+pub use prepare::{prepare, RenderScene};
 pub use scene::Scene;
 
 /// A short, lower-case description of an I/O error, the same wording everywhere:

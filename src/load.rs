@@ -1,48 +1,139 @@
-//! The load step: a scene file with everything it names. The text is parsed in its
-//! format (by the file's extension unless given), then the files the scene refers to
-//! — a P3F skybox's six face images — are read from the scene file's directory and
-//! decoded, once.
+//! The load step: a scene from a file, standard input or text, with everything it
+//! names. The bytes are read within a size limit, parsed in their format (by the
+//! file's extension unless given), then the files the scene refers to — a P3F
+//! skybox's six face images — are read from the scene file's directory: decoded for
+//! a render, or only their headers checked for a summary. The command line, the
+//! viewer and the Python bindings all load through [`load`].
+//!
+//! The parsed [`Scene`] stays as parsed; what the files it names hold comes back
+//! beside it, as [`Assets`].
 //!
 //! ```no_run
-//! let scene = nffrt::load::load_file("balls_low.p3f".as_ref(), &Default::default()).unwrap();
+//! use nffrt::load::{load, LoadOptions, Source};
+//! let loaded = load(Source::File("balls_low.p3f".as_ref()), &LoadOptions::default()).unwrap();
+//! println!("{} primitives", loaded.scene.primitive_count());
 //! ```
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Instant;
 
 use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::image::skybox::{CubeFace, FaceImage, Skybox};
-use crate::limits::MAX_FACE_TEXELS;
+use crate::limits::{DEFAULT_MAX_SCENE_BYTES, MAX_FACE_TEXELS};
 use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
 use crate::scene::Scene;
 
+/// Where a scene comes from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// A file; the files it names are found from its directory.
+    File(&'a Path),
+    /// Standard input, named `<stdin>`; named files are found from the current directory.
+    Stdin,
+    /// Text in memory named `name` in messages; named files are found from `dir`
+    /// (the current directory when `None`).
+    Text {
+        /// The name errors give it.
+        name: &'a str,
+        /// The scene text.
+        bytes: &'a [u8],
+        /// Where the files it names are.
+        dir: Option<&'a Path>,
+    },
+}
+
+/// What to do with the files a scene names.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AssetMode {
+    /// Decode them, for a render.
+    #[default]
+    Decode,
+    /// Only check that they exist and read their image headers (sizes), for a summary.
+    Check,
+}
+
 /// How to load a scene.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct LoadOptions {
-    /// The language; `None` chooses by the file's extension (`.p3f` is P3F).
+    /// The language; `None` chooses by the file's extension (`.p3f` is P3F, else NFF).
     pub format: Option<Format>,
     /// What the file may make the parser allocate.
     pub limits: Limits,
+    /// The largest scene accepted, in bytes; larger input is refused before it is parsed.
+    pub max_bytes: u64,
+    /// Decode the files the scene names, or only check them.
+    pub assets: AssetMode,
+    /// Work out [`Loaded::fingerprint`] (tiles record it; about a millisecond per megabyte).
+    pub fingerprint: bool,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            format: None,
+            limits: Limits::default(),
+            max_bytes: DEFAULT_MAX_SCENE_BYTES,
+            assets: AssetMode::Decode,
+            fingerprint: false,
+        }
+    }
+}
+
+/// What the files a scene names hold.
+#[derive(Clone, Debug, Default)]
+pub struct Assets {
+    /// The decoded skybox ([`AssetMode::Decode`] of a scene with `env`).
+    pub skybox: Option<Arc<Skybox>>,
+    /// The size of each skybox face, in [`CubeFace::ALL`]'s order, from its header.
+    pub skybox_sizes: Option<[(u32, u32); 6]>,
+}
+
+/// A loaded scene.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The scene as parsed.
+    pub scene: Scene,
+    /// What the files it names hold.
+    pub assets: Assets,
+    /// The name messages give it: the path as given, `<stdin>`, or the text's name.
+    pub name: String,
+    /// The fingerprint of the scene's bytes and of the files it names
+    /// ([`crate::fingerprint::scene_fingerprint_with`]), when asked for.
+    pub fingerprint: Option<u64>,
+    /// Seconds spent parsing (reading the file excluded).
+    pub parse_s: f64,
+    /// Seconds spent reading (and decoding) the files the scene names.
+    pub assets_s: f64,
 }
 
 /// Why a scene could not be loaded.
 #[derive(Debug, Error)]
 pub enum LoadError {
-    /// The scene file itself could not be read.
-    #[error("{}: {message}", path.display())]
+    /// The scene itself could not be read.
+    #[error("{name}: {message}")]
     Io {
-        /// The file.
-        path: PathBuf,
+        /// The scene as named in messages.
+        name: String,
         /// What went wrong.
         message: String,
+    },
+    /// The scene is larger than [`LoadOptions::max_bytes`].
+    #[error("{name}: the scene is larger than {max_bytes} bytes")]
+    TooLarge {
+        /// The scene as named in messages.
+        name: String,
+        /// The limit.
+        max_bytes: u64,
     },
     /// The text is malformed.
     #[error("{name}:{}:{}: {}", error.line, error.column, error.kind)]
     Parse {
-        /// The file as named in messages (`<stdin>` for standard input).
+        /// The scene as named in messages.
         name: String,
         /// Where and what.
         error: ParseError,
@@ -55,121 +146,271 @@ pub enum LoadError {
         /// What went wrong, and which line of the scene named it.
         message: String,
     },
-    /// The caller's cancellation flag was raised ([`load_bytes_cancellable`]).
+    /// The caller's cancellation flag was raised ([`load_cancellable`]).
     #[error("loading cancelled")]
     Cancelled,
 }
 
-/// Reads, parses and resolves the scene file at `path`.
-pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: path.to_path_buf(),
-        message: crate::io_reason(&e),
-    })?;
-    let format = opts.format.unwrap_or_else(|| Format::of_path(path));
-    let name = path.display().to_string();
-    load_bytes(&bytes, format, &name, path.parent(), &opts.limits)
-}
-
-/// Parses `bytes` as a scene in `format` (named `name` in errors) and resolves the
-/// files it names against `dir` (the current directory when `None`, as for
-/// standard input).
-pub fn load_bytes(
-    bytes: &[u8],
-    format: Format,
-    name: &str,
-    dir: Option<&Path>,
-    limits: &Limits,
-) -> Result<Scene, LoadError> {
+/// Reads, parses and resolves the scene of `source`.
+pub fn load(source: Source<'_>, opts: &LoadOptions) -> Result<Loaded, LoadError> {
     static NEVER: AtomicBool = AtomicBool::new(false);
-    load_bytes_cancellable(bytes, format, name, dir, limits, &NEVER)
+    load_cancellable(source, opts, &NEVER)
 }
 
-/// [`load_bytes`] that stops with [`LoadError::Cancelled`] soon after `cancel` is
-/// raised: the parser polls it between entities, and no skybox face is read once it
-/// is up (for a viewer that reloads a file being edited).
-pub fn load_bytes_cancellable(
-    bytes: &[u8],
-    format: Format,
-    name: &str,
-    dir: Option<&Path>,
-    limits: &Limits,
+/// [`load`] that stops with [`LoadError::Cancelled`] soon after `cancel` is raised:
+/// the parser polls it between entities, and no named file is read once it is up
+/// (for a viewer that reloads a file being edited, or Ctrl-C in Python).
+pub fn load_cancellable(
+    source: Source<'_>,
+    opts: &LoadOptions,
     cancel: &AtomicBool,
-) -> Result<Scene, LoadError> {
-    let mut scene = parse_format_cancellable(bytes, format, limits, cancel).map_err(|error| {
+) -> Result<Loaded, LoadError> {
+    let (name, read, dir, format) = match source {
+        Source::File(path) => (
+            path.display().to_string(),
+            None,
+            path.parent(),
+            opts.format.unwrap_or_else(|| Format::of_path(path)),
+        ),
+        Source::Stdin => (
+            "<stdin>".to_string(),
+            None,
+            None,
+            opts.format.unwrap_or(Format::Nff),
+        ),
+        Source::Text { name, bytes, dir } => (
+            name.to_string(),
+            Some(bytes),
+            dir,
+            opts.format.unwrap_or(Format::Nff),
+        ),
+    };
+    let owned;
+    let bytes = match (read, source) {
+        (Some(bytes), _) if bytes.len() as u64 > opts.max_bytes => {
+            return Err(LoadError::TooLarge {
+                name,
+                max_bytes: opts.max_bytes,
+            })
+        }
+        (Some(bytes), _) => bytes,
+        (None, Source::File(path)) => {
+            owned = read_file(path, &name, opts.max_bytes)?;
+            &owned[..]
+        }
+        (None, _) => {
+            owned = read_stdin(&name, opts.max_bytes)?;
+            &owned[..]
+        }
+    };
+    let t0 = Instant::now();
+    let scene = parse_format_cancellable(bytes, format, &opts.limits, cancel).map_err(|error| {
         if error.kind == ParseErrorKind::Cancelled {
             return LoadError::Cancelled;
         }
         LoadError::Parse {
-            name: name.to_string(),
+            name: name.clone(),
             error,
         }
     })?;
+    let parse_s = t0.elapsed().as_secs_f64();
     if cancel.load(Ordering::Relaxed) {
         return Err(LoadError::Cancelled);
     }
-    resolve(&mut scene, name, dir.unwrap_or(Path::new("")))?;
-    Ok(scene)
-}
-
-/// Reads the files `scene` names, relative to `dir`: decodes its skybox.
-pub fn resolve(scene: &mut Scene, name: &str, dir: &Path) -> Result<(), LoadError> {
-    let Some(env) = scene.environment.as_mut() else {
-        return Ok(());
+    let t1 = Instant::now();
+    let named = NamedFiles::of(&scene, &name, dir.unwrap_or(Path::new("")))?;
+    let assets = match &named {
+        Some(n) => n.read(opts.assets)?,
+        None => Assets::default(),
     };
-    let folder = dir.join(&env.folder);
-    let named_at = format!("the skybox named at {name}:{}:{}", env.line, env.column);
-    env.skybox = Some(Arc::new(load_skybox(&folder, &named_at)?));
-    Ok(())
+    let fingerprint = opts
+        .fingerprint
+        .then(|| fingerprint(bytes, named.as_ref()))
+        .transpose()?;
+    Ok(Loaded {
+        scene,
+        assets,
+        name,
+        fingerprint,
+        parse_s,
+        assets_s: t1.elapsed().as_secs_f64(),
+    })
 }
 
-/// Decodes the six faces in `folder` (`right left top bottom front back`, each a
-/// `.jpg`, `.jpeg` or `.png`), in parallel. `context` says where the scene named it.
-pub fn load_skybox(folder: &Path, context: &str) -> Result<Skybox, LoadError> {
+/// Reads at most `max_bytes` of the scene file (one more byte means it is too large,
+/// whatever its metadata claims: /proc files have no length).
+fn read_file(path: &Path, name: &str, max_bytes: u64) -> Result<Vec<u8>, LoadError> {
+    if path.is_dir() {
+        return Err(LoadError::Io {
+            name: name.to_string(),
+            message: "is a directory, not a scene file".into(),
+        });
+    }
+    let cannot_read = |e: std::io::Error| LoadError::Io {
+        name: name.to_string(),
+        message: format!("cannot read scene: {}", crate::io_reason(&e)),
+    };
+    let file = std::fs::File::open(path).map_err(cannot_read)?;
+    let known = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let too_large = || LoadError::TooLarge {
+        name: name.to_string(),
+        max_bytes,
+    };
+    if known > max_bytes {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(known as usize);
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(cannot_read)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// Reads at most `max_bytes` of standard input (one more byte means it is too large).
+fn read_stdin(name: &str, max_bytes: u64) -> Result<Vec<u8>, LoadError> {
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| LoadError::Io {
+            name: name.to_string(),
+            message: format!("cannot read standard input: {}", crate::io_reason(&e)),
+        })?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(LoadError::TooLarge {
+            name: name.to_string(),
+            max_bytes,
+        });
+    }
+    Ok(bytes)
+}
+
+/// The files a scene names: its skybox's six faces, and where the scene named them.
+struct NamedFiles {
+    faces: [PathBuf; 6],
+    /// `the skybox named at FILE:LINE:COLUMN`, for messages.
+    context: String,
+}
+
+impl NamedFiles {
+    /// The files `scene` names, found from `dir`; `None` if it names none.
+    fn of(scene: &Scene, name: &str, dir: &Path) -> Result<Option<NamedFiles>, LoadError> {
+        let Some(env) = scene.environment.as_ref() else {
+            return Ok(None);
+        };
+        let folder = dir.join(&env.folder);
+        let context = format!("the skybox named at {name}:{}:{}", env.line, env.column);
+        let faces = find_faces(&folder, &context)?;
+        Ok(Some(NamedFiles { faces, context }))
+    }
+
+    /// Reads the faces: their headers, and in [`AssetMode::Decode`] their pixels, in
+    /// parallel.
+    fn read(&self, mode: AssetMode) -> Result<Assets, LoadError> {
+        let sizes: Vec<(u32, u32)> = self
+            .faces
+            .par_iter()
+            .map(|path| face_size(path, &self.context))
+            .collect::<Result<_, _>>()?;
+        let skybox = match mode {
+            AssetMode::Check => None,
+            AssetMode::Decode => {
+                let faces: Vec<FaceImage> = self
+                    .faces
+                    .par_iter()
+                    .map(|path| decode_face(path, &self.context))
+                    .collect::<Result<_, _>>()?;
+                let faces: [FaceImage; 6] = faces.try_into().expect("six faces");
+                Some(Arc::new(Skybox { faces }))
+            }
+        };
+        Ok(Assets {
+            skybox,
+            skybox_sizes: Some(sizes.try_into().expect("six faces")),
+        })
+    }
+}
+
+/// The fingerprint of a scene's `bytes` and of the files it names, each after its
+/// length (see [`crate::fingerprint::scene_fingerprint_with`]).
+fn fingerprint(bytes: &[u8], named: Option<&NamedFiles>) -> Result<u64, LoadError> {
+    let mut files = Vec::new();
+    for path in named.map(|n| &n.faces[..]).unwrap_or_default() {
+        let context = named.map(|n| n.context.as_str()).unwrap_or_default();
+        files.push(std::fs::read(path).map_err(|e| cannot_read_face(path, &e, context))?);
+    }
+    let pieces: Vec<&[u8]> = files.iter().map(Vec::as_slice).collect();
+    Ok(crate::fingerprint::scene_fingerprint_with(bytes, &pieces))
+}
+
+/// The six face images in `folder` (`right left top bottom front back`, each a
+/// `.jpg`, `.jpeg` or `.png`). `context` says where the scene named it.
+fn find_faces(folder: &Path, context: &str) -> Result<[PathBuf; 6], LoadError> {
     if !folder.is_dir() {
         return Err(LoadError::Asset {
             path: folder.to_path_buf(),
             message: format!("no such skybox folder ({context})"),
         });
     }
-    let faces: Vec<FaceImage> = CubeFace::ALL
-        .par_iter()
-        .map(|face| load_face(folder, *face, context))
-        .collect::<Result<_, _>>()?;
-    let faces: [FaceImage; 6] = faces.try_into().expect("six faces");
-    Ok(Skybox { faces })
+    let mut faces = Vec::with_capacity(6);
+    for face in CubeFace::ALL {
+        let candidates = ["jpg", "jpeg", "png"].map(|ext| folder.join(format!("{}.{ext}", face.name())));
+        let Some(path) = candidates.into_iter().find(|p| p.is_file()) else {
+            return Err(LoadError::Asset {
+                path: folder.to_path_buf(),
+                message: format!(
+                    "skybox face '{}' not found (looked for {0}.jpg, {0}.jpeg and {0}.png; {context})",
+                    face.name()
+                ),
+            });
+        };
+        faces.push(path);
+    }
+    Ok(faces.try_into().expect("six faces"))
 }
 
-fn load_face(folder: &Path, face: CubeFace, context: &str) -> Result<FaceImage, LoadError> {
-    let candidates = ["jpg", "jpeg", "png"].map(|ext| folder.join(format!("{}.{ext}", face.name())));
-    let Some(path) = candidates.iter().find(|p| p.is_file()) else {
-        return Err(LoadError::Asset {
-            path: folder.to_path_buf(),
-            message: format!(
-                "skybox face '{}' not found (looked for {0}.jpg, {0}.jpeg and {0}.png; {context})",
-                face.name()
-            ),
-        });
-    };
-    let fail = |message: String| LoadError::Asset {
-        path: path.clone(),
-        message: format!("{message} ({context})"),
-    };
-    let reader = image::ImageReader::open(path)
-        .map_err(|e| fail(format!("cannot read skybox image: {}", crate::io_reason(&e))))?
-        .with_guessed_format()
-        .map_err(|e| fail(format!("cannot read skybox image: {}", crate::io_reason(&e))))?;
-    let (w, h) = reader
-        .into_dimensions()
-        .map_err(|e| fail(format!("not a readable JPEG or PNG image: {e}")))?;
-    if w == 0 || h == 0 || w as u64 * h as u64 > MAX_FACE_TEXELS {
-        return Err(fail(format!("a {w} x {h} skybox face is empty or too large")));
+fn cannot_read_face(path: &Path, e: &std::io::Error, context: &str) -> LoadError {
+    LoadError::Asset {
+        path: path.to_path_buf(),
+        message: format!("cannot read skybox image: {} ({context})", crate::io_reason(e)),
     }
+}
+
+fn not_an_image(path: &Path, e: &image::ImageError, context: &str) -> LoadError {
+    LoadError::Asset {
+        path: path.to_path_buf(),
+        message: format!("not a readable JPEG or PNG image: {e} ({context})"),
+    }
+}
+
+/// A face image's size from its header: at least one texel, at most
+/// [`MAX_FACE_TEXELS`].
+fn face_size(path: &Path, context: &str) -> Result<(u32, u32), LoadError> {
+    let (w, h) = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| cannot_read_face(path, &e, context))?
+        .into_dimensions()
+        .map_err(|e| not_an_image(path, &e, context))?;
+    if w == 0 || h == 0 || w as u64 * h as u64 > MAX_FACE_TEXELS {
+        return Err(LoadError::Asset {
+            path: path.to_path_buf(),
+            message: format!("a {w} x {h} skybox face is empty or too large ({context})"),
+        });
+    }
+    Ok((w, h))
+}
+
+/// Decodes a face image (its size checked first by [`face_size`]).
+fn decode_face(path: &Path, context: &str) -> Result<FaceImage, LoadError> {
     let decoded = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
-        .map_err(|e| fail(format!("cannot read skybox image: {}", crate::io_reason(&e))))?
+        .map_err(|e| cannot_read_face(path, &e, context))?
         .decode()
-        .map_err(|e| fail(format!("not a readable JPEG or PNG image: {e}")))?;
+        .map_err(|e| not_an_image(path, &e, context))?;
     let rgb = decoded.into_rgb8();
     Ok(FaceImage {
         width: rgb.width(),
@@ -182,23 +423,44 @@ fn load_face(folder: &Path, face: CubeFace, context: &str) -> Result<FaceImage, 
 mod tests {
     use super::*;
 
+    fn text(bytes: &[u8]) -> Source<'_> {
+        Source::Text {
+            name: "x",
+            bytes,
+            dir: None,
+        }
+    }
+
     #[test]
     fn a_raised_flag_cancels_loading_and_a_lowered_one_changes_nothing() {
-        let text = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n".to_string()
+        let text_ = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n".to_string()
             + &"s 0 0 0 1\n".repeat(2000);
-        let limits = Limits::default();
         for format in [Format::Nff, Format::P3f] {
+            let opts = LoadOptions {
+                format: Some(format),
+                ..LoadOptions::default()
+            };
             let up = AtomicBool::new(true);
-            let e = load_bytes_cancellable(text.as_bytes(), format, "x", None, &limits, &up).unwrap_err();
+            let e = load_cancellable(text(text_.as_bytes()), &opts, &up).unwrap_err();
             assert!(matches!(e, LoadError::Cancelled), "{e}");
             let down = AtomicBool::new(false);
-            let scene = load_bytes_cancellable(text.as_bytes(), format, "x", None, &limits, &down).unwrap();
-            assert_eq!(scene.spheres.len(), 2000);
+            let loaded = load_cancellable(text(text_.as_bytes()), &opts, &down).unwrap();
+            assert_eq!(loaded.scene.spheres.len(), 2000);
         }
         // A parse error stays a parse error, located.
-        let down = AtomicBool::new(false);
-        let e =
-            load_bytes_cancellable(b"s 0 0 0 1\nq\n", Format::Nff, "x", None, &limits, &down).unwrap_err();
+        let e = load(text(b"s 0 0 0 1\nq\n"), &LoadOptions::default()).unwrap_err();
         assert_eq!(e.to_string(), "x:2:1: unknown keyword \"q\"");
+    }
+
+    #[test]
+    fn text_over_the_byte_limit_is_refused_before_parsing() {
+        let opts = LoadOptions {
+            max_bytes: 9,
+            ..LoadOptions::default()
+        };
+        // Ten bytes of nonsense: the size, not the parse, is the error.
+        let e = load(text(b"q q q q q "), &opts).unwrap_err();
+        assert_eq!(e.to_string(), "x: the scene is larger than 9 bytes");
+        assert!(load(text(b"s 0 0 0 1"), &opts).is_ok());
     }
 }

@@ -7,9 +7,6 @@
 //! A generated scene ([`crate::gen`]) numbers its primitives with the lines they
 //! occupy when [`crate::nff::write_nff`] writes it, which also fixes their order there.
 
-use std::sync::Arc;
-
-use crate::image::skybox::Skybox;
 use crate::math::{Aabb, Vec3};
 
 /// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
@@ -289,9 +286,6 @@ pub struct Environment {
     pub line: u32,
     /// Column of the folder's name.
     pub column: u32,
-    /// The six decoded faces, once the scene's files have been read
-    /// ([`crate::load`]); `None` for a scene parsed from text alone.
-    pub skybox: Option<Arc<Skybox>>,
 }
 
 /// Something the parser tolerated, with where it was.
@@ -320,7 +314,8 @@ pub struct Scene {
     pub view: View,
     /// Background colour (`b`, P3F `bclr`), seen where no skybox is.
     pub background: Vec3,
-    /// The skybox, which replaces the background colour once loaded.
+    /// The skybox, which replaces the background colour (its images are read by
+    /// [`crate::load`], beside the scene).
     pub environment: Option<Environment>,
     /// Point lights in file order.
     pub lights: Vec<Light>,
@@ -357,6 +352,49 @@ pub struct Scene {
     pub accel: Option<Accel>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
+}
+
+/// What remains of a [`Scene`] once its primitives are in a render-time structure
+/// ([`crate::prepare`]): its settings, lights and materials as parsed, and a summary
+/// of its primitives. `nffrt info`, `--stats`, the viewer and the Python bindings
+/// report from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneInfo {
+    /// The language it was written in.
+    pub dialect: Dialect,
+    /// The camera.
+    pub view: View,
+    /// Background colour.
+    pub background: Vec3,
+    /// The skybox it names.
+    pub environment: Option<Environment>,
+    /// Lights in file order.
+    pub lights: Vec<Light>,
+    /// The material table.
+    pub materials: Vec<Material>,
+    /// Samples per pixel asked for by the file (P3F `spp`).
+    pub spp: Option<u32>,
+    /// The acceleration structure the file asks for (P3F `accel`).
+    pub accel: Option<Accel>,
+    /// What the parser tolerated.
+    pub warnings: Vec<Warning>,
+    /// The number of primitives of each kind outside meshes ([`Scene::kind_counts`]).
+    pub kind_counts: Vec<(&'static str, usize)>,
+    /// Triangle meshes.
+    pub meshes: usize,
+    /// Triangles of all meshes.
+    pub mesh_triangles: usize,
+    /// All primitives ([`Scene::primitive_count`]).
+    pub primitives: usize,
+    /// Bounding box of the bounded primitives ([`Scene::bounds`]).
+    pub bounds: Aabb,
+}
+
+impl SceneInfo {
+    /// The number of area lights.
+    pub fn area_lights(&self) -> usize {
+        self.lights.iter().filter(|l| l.area.is_some()).count()
+    }
 }
 
 impl Scene {
@@ -471,6 +509,26 @@ impl Scene {
         self.patch_normals.extend(patch_normals);
         self.mesh_vertices.extend(mesh_vertices);
         self.lights.extend(lights);
+    }
+
+    /// The scene's [`SceneInfo`].
+    pub fn info(&self) -> SceneInfo {
+        SceneInfo {
+            dialect: self.dialect,
+            view: self.view,
+            background: self.background,
+            environment: self.environment.clone(),
+            lights: self.lights.clone(),
+            materials: self.materials.clone(),
+            spp: self.spp,
+            accel: self.accel,
+            warnings: self.warnings.clone(),
+            kind_counts: self.kind_counts().to_vec(),
+            meshes: self.meshes.len(),
+            mesh_triangles: self.mesh_triangles.len(),
+            primitives: self.primitive_count(),
+            bounds: self.bounds(),
+        }
     }
 
     /// Bounding box of every bounded primitive (planes excluded); empty if none.

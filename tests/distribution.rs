@@ -2,11 +2,13 @@
 //! and circle of confusion, the penumbra of a straight edge under a quad light, and
 //! the error of stratified against independent sampling.
 
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
+use nffrt::load::Assets;
 use nffrt::math::{Ray, Vec3};
 use nffrt::nff::{parse_format, Format};
-use nffrt::render::{render, Camera, CameraSample, RenderOptions, SampleId, Sampling, Stats, Tracer};
+use nffrt::prepare;
+use nffrt::render::{
+    render, Camera, CameraSample, Frame, NoRecord, RenderOptions, SampleId, Sampling, TraceContext,
+};
 use nffrt::Scene;
 
 fn p3f(src: &str) -> Scene {
@@ -28,7 +30,7 @@ const LENS_CAMERA: &str = "camera eye 0 0 10 at 0 0 0 up 0 1 0 angle 90 hither 1
 #[test]
 fn lens_rays_meet_on_the_focal_plane_and_spread_by_the_circle_of_confusion_off_it() {
     let scene = p3f(LENS_CAMERA);
-    let opts = RenderOptions::from_scene(&scene);
+    let opts = RenderOptions::from_view(&scene.view);
     let camera = Camera::new(&scene.view, &opts);
     assert!(camera.has_lens());
     let (eye, forward) = (Vec3::new(0.0, 0.0, 10.0), Vec3::new(0.0, 0.0, -1.0));
@@ -82,13 +84,13 @@ fn the_penumbra_of_a_straight_edge_matches_the_visible_fraction_of_a_quad_light(
          p 4 -50 -50 2 0 -50 2 0 50 2 -50 50 2\n\
          p 4 -50 -50 0 50 -50 0 50 50 0 -50 50 0\n",
     );
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let n = 256;
     let opts = RenderOptions {
         sampling: Sampling::Stratified { spp: n },
-        ..RenderOptions::from_scene(&scene)
+        ..RenderOptions::from_view(scene.view())
     };
-    let tracer = Tracer::new(&scene, &bvh, &opts);
+    let frame = Frame::new(&scene, scene.view(), &opts);
     for (k, x) in [-1.5f32, -0.6, -0.25, 0.0, 0.3, 0.75, 1.4]
         .into_iter()
         .enumerate()
@@ -96,12 +98,13 @@ fn the_penumbra_of_a_straight_edge_matches_the_visible_fraction_of_a_quad_light(
         // The eye ray of each sample drops straight onto the floor point (x, 0.3, 0)
         // from just above it, under the occluder; sample s takes stratum pi(s) of the
         // light, so the n samples cover its n strata once each.
-        let mut stats = Stats::default();
+        let mut ctx = TraceContext::default();
         for index in 0..n {
             let id = SampleId::new(k as u32, 0, index, n, true);
             let down = Ray::new(Vec3::new(x, 0.3, 0.5), Vec3::new(0.0, 0.0, -1.0));
-            tracer.trace_eye(&down, &id, &mut stats);
+            frame.ray_radiance(&down, &id, &mut ctx, &mut NoRecord);
         }
+        let stats = ctx.stats;
         assert_eq!(stats.shadow_rays, n as u64, "x {x}");
         let hidden = stats.shadow_blocked as f32 / n as f32;
         let want = ((-x + 1.0) / 2.0).clamp(0.0, 1.0);
@@ -137,13 +140,13 @@ fn rms(a: &[Vec3], b: &[Vec3]) -> f64 {
 #[test]
 fn stratified_16_spp_is_closer_to_the_converged_picture_than_16_independent_samples() {
     let scene = p3f(SOFT_SCENE);
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let with = |sampling| {
         let opts = RenderOptions {
             sampling,
-            ..RenderOptions::from_scene(&scene)
+            ..RenderOptions::from_view(scene.view())
         };
-        render(&scene, &bvh, &opts).0.pixels
+        render(&scene, scene.view(), &opts).0.pixels
     };
     let reference = with(Sampling::Stratified { spp: 1024 });
     let stratified = rms(&with(Sampling::Stratified { spp: 16 }), &reference);
@@ -162,17 +165,21 @@ fn distribution_effects_are_deterministic_across_threads_and_tiles() {
     use nffrt::image::Region;
     use nffrt::render::{render_region, Silent};
     let scene = p3f(SOFT_SCENE);
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let opts = RenderOptions {
         sampling: Sampling::Stratified { spp: 9 },
-        ..RenderOptions::from_scene(&scene)
+        ..RenderOptions::from_view(scene.view())
     };
     let on = |threads: usize, region: Region| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| render_region(&scene, &bvh, &opts, &region, &Silent).unwrap().0)
+        pool.install(|| {
+            render_region(&scene, scene.view(), &opts, &region, &Silent)
+                .unwrap()
+                .0
+        })
     };
     let full = on(1, Region::full(opts.width, opts.height));
     for threads in [2, 3, 8] {

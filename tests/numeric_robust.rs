@@ -8,16 +8,16 @@
 //! channel: a zero pixel means the tracer's last-resort NaN guard fired, and the tests
 //! reject that too.
 
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
 use nffrt::image::Image;
+use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::prepare;
 use nffrt::render::{render, RenderOptions, Sampling, Stats};
 use proptest::prelude::*;
 
 fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Image, Stats) {
     let scene = parse(src).unwrap_or_else(|e| panic!("{e}\n{src}"));
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let opts = RenderOptions {
         width: size,
         height: size,
@@ -25,7 +25,7 @@ fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Imag
         sampling,
         ..Default::default()
     };
-    render(&scene, &bvh, &opts)
+    render(&scene, scene.view(), &opts)
 }
 
 /// Every pixel finite and strictly positive (see the module docs).
@@ -209,7 +209,7 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
     let src = "v from 0 0 0 at 0.3 -0.2 -1 up 0 1 0 angle 60 hither 0 resolution 4 4\n\
                l 0.5 0.5 0.5\nf 0.5 0.5 0.5 0.2 1 20 0 1\naabb -1 1 -1 1 -1 1\n";
     let scene = parse(src).unwrap();
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let opts = RenderOptions {
         width: 4,
         height: 4,
@@ -222,7 +222,7 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
         .stack_size(512 * 1024)
         .build()
         .unwrap();
-    let (img, stats) = pool.install(|| render(&scene, &bvh, &opts));
+    let (img, stats) = pool.install(|| render(&scene, scene.view(), &opts));
     assert_eq!(stats.eye_hits, 16);
     assert_eq!(stats.reflection_rays, 16 * 63);
     assert_eq!(stats.secondary_hits, 16 * 63);
@@ -240,7 +240,7 @@ fn mirror_box_edges_and_corners_keep_every_ray_inside() {
     let src = "v from 0 0 0 at 0 0 -1 up 0 1 0 angle 90 hither 0 resolution 3 3\n\
                l 0.5 0.5 0.5\nf 0.5 0.5 0.5 0.2 1 20 0 1\naabb -1 1 -1 1 -1 1\n";
     let scene = parse(src).unwrap();
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let opts = RenderOptions {
         width: 3,
         height: 3,
@@ -248,7 +248,7 @@ fn mirror_box_edges_and_corners_keep_every_ray_inside() {
         sampling: Sampling::PixelCenters,
         ..Default::default()
     };
-    let (img, stats) = render(&scene, &bvh, &opts);
+    let (img, stats) = render(&scene, scene.view(), &opts);
     assert_eq!(stats.eye_hits, 9);
     assert_eq!(stats.reflection_rays, 9 * 15);
     assert_eq!(stats.secondary_hits, 9 * 15, "a ray escaped the closed box");

@@ -1,24 +1,24 @@
 //! Whole-render tests through the library: determinism across thread counts, an
 //! analytic pixel, shadow logic, and depth limits.
 
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
 use nffrt::image::Image;
+use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::prepare;
 use nffrt::render::{render, RenderOptions, Sampling, Stats};
 
 fn render_with_threads(src: &str, threads: usize, sampling: Sampling) -> (Image, Stats) {
     let scene = parse(src).unwrap();
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let opts = RenderOptions {
         sampling,
-        ..RenderOptions::from_scene(&scene)
+        ..RenderOptions::from_view(scene.view())
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
-    pool.install(|| render(&scene, &bvh, &opts))
+    pool.install(|| render(&scene, scene.view(), &opts))
 }
 
 fn example() -> String {
@@ -80,12 +80,12 @@ fn max_depth_bounds_the_ray_tree() {
                f 1 1 1 0 1 1 0 1\np 4 -5 -5 0 5 -5 0 5 5 0 -5 5 0\np 4 -5 -5 6 -5 5 6 5 5 6 5 -5 6\n";
     for depth in [1, 2, 5, 9] {
         let scene = parse(src).unwrap();
-        let bvh = Bvh::new(build_geometry(&scene));
+        let scene = prepare(scene, &Assets::default());
         let opts = RenderOptions {
             max_depth: depth,
-            ..RenderOptions::from_scene(&scene)
+            ..RenderOptions::from_view(scene.view())
         };
-        let (_, st) = render(&scene, &bvh, &opts);
+        let (_, st) = render(&scene, scene.view(), &opts);
         assert_eq!(st.reflection_rays, depth as u64 - 1, "depth {depth}");
     }
 }

@@ -2,19 +2,17 @@
 //! across runs and thread counts, averages an edge as its coverage says, crops equal
 //! the full render, and the traced pixel is the rendered one.
 
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
 use nffrt::image::{Image, Region};
+use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::prepare;
 use nffrt::render::debug::trace_pixel;
 use nffrt::render::{render, render_region, RenderOptions, Sampling, Silent};
-use nffrt::Scene;
+use nffrt::{RenderScene, Scene};
 
-fn showcase() -> (Scene, Bvh) {
+fn showcase() -> RenderScene {
     let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/showcase.nff")).unwrap();
-    let scene = parse(&src).unwrap();
-    let bvh = Bvh::new(build_geometry(&scene));
-    (scene, bvh)
+    prepare(parse(&src).unwrap(), &Assets::default())
 }
 
 fn opts(sampling: Sampling) -> RenderOptions {
@@ -27,26 +25,26 @@ fn opts(sampling: Sampling) -> RenderOptions {
     }
 }
 
-fn render_on(threads: usize, scene: &Scene, bvh: &Bvh, o: &RenderOptions) -> Image {
+fn render_on(threads: usize, scene: &RenderScene, o: &RenderOptions) -> Image {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
-    pool.install(|| render(scene, bvh, o).0)
+    pool.install(|| render(scene, scene.view(), o).0)
 }
 
 #[test]
 fn spp4_is_identical_across_runs_and_thread_counts() {
-    let (scene, bvh) = showcase();
+    let scene = showcase();
     let o = opts(Sampling::Stratified { spp: 4 });
-    let first = render_on(1, &scene, &bvh, &o);
+    let first = render_on(1, &scene, &o);
     for threads in [1, 2, 3, 8] {
         for _ in 0..2 {
-            assert!(render_on(threads, &scene, &bvh, &o) == first, "{threads} threads");
+            assert!(render_on(threads, &scene, &o) == first, "{threads} threads");
         }
     }
     // The jitter really moved the samples: edges differ from the 1-spp image.
-    let centres = render_on(2, &scene, &bvh, &opts(Sampling::PixelCenters));
+    let centres = render_on(2, &scene, &opts(Sampling::PixelCenters));
     let differing = first
         .pixels
         .iter()
@@ -58,9 +56,9 @@ fn spp4_is_identical_across_runs_and_thread_counts() {
 
 #[test]
 fn one_sample_per_pixel_is_the_pixel_centre() {
-    let (scene, bvh) = showcase();
-    let a = render_on(2, &scene, &bvh, &opts(Sampling::Stratified { spp: 1 }));
-    let b = render_on(2, &scene, &bvh, &opts(Sampling::PixelCenters));
+    let scene = showcase();
+    let a = render_on(2, &scene, &opts(Sampling::Stratified { spp: 1 }));
+    let b = render_on(2, &scene, &opts(Sampling::PixelCenters));
     assert!(a == b);
 }
 
@@ -78,13 +76,13 @@ fn half_covered() -> Scene {
 #[test]
 fn supersampling_averages_an_edge_by_its_coverage() {
     let scene = half_covered();
-    let bvh = Bvh::new(build_geometry(&scene));
+    let scene = prepare(scene, &Assets::default());
     let value = |spp| {
         let o = RenderOptions {
             sampling: Sampling::Stratified { spp },
-            ..RenderOptions::from_scene(&scene)
+            ..RenderOptions::from_view(scene.view())
         };
-        let img = render(&scene, &bvh, &o).0;
+        let img = render(&scene, scene.view(), &o).0;
         // The outer columns are fully inside and fully outside.
         assert_eq!((img.get(0, 0).x, img.get(2, 0).x), (1.0, 0.0), "spp {spp}");
         img.get(1, 0).x
@@ -104,21 +102,21 @@ fn supersampling_averages_an_edge_by_its_coverage() {
 
 #[test]
 fn a_region_has_exactly_the_full_renders_pixels() {
-    let (scene, bvh) = showcase();
+    let scene = showcase();
     for sampling in [
         Sampling::PixelCenters,
         Sampling::SpdCorners,
         Sampling::Stratified { spp: 6 },
     ] {
         let o = opts(sampling);
-        let full = render(&scene, &bvh, &o).0;
+        let full = render(&scene, scene.view(), &o).0;
         let r = Region {
             x0: 7,
             y0: 3,
             x1: 30,
             y1: 36,
         };
-        let crop = render_region(&scene, &bvh, &o, &r, &Silent).unwrap().0;
+        let crop = render_region(&scene, scene.view(), &o, &r, &Silent).unwrap().0;
         assert_eq!((crop.width, crop.height), (23, 33));
         for y in 0..crop.height {
             for x in 0..crop.width {
@@ -134,16 +132,16 @@ fn a_region_has_exactly_the_full_renders_pixels() {
 
 #[test]
 fn a_traced_pixel_is_the_rendered_pixel() {
-    let (scene, bvh) = showcase();
+    let scene = showcase();
     for (sampling, rays) in [
         (Sampling::PixelCenters, 1),
         (Sampling::SpdCorners, 4),
         (Sampling::Stratified { spp: 5 }, 5),
     ] {
         let o = opts(sampling);
-        let full = render(&scene, &bvh, &o).0;
+        let full = render(&scene, scene.view(), &o).0;
         for (x, y) in [(0, 0), (13, 20), (30, 17), (47, 35)] {
-            let t = trace_pixel(&scene, &bvh, &o, x, y);
+            let t = trace_pixel(&scene, scene.view(), &o, x, y);
             assert_eq!(t.value, full.get(x, y), "{sampling} ({x}, {y})");
             assert_eq!(t.samples.len(), rays);
             assert_eq!(t.stats.eye_rays, rays as u64);

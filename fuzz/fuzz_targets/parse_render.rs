@@ -7,8 +7,8 @@
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
+use nffrt::load::Assets;
+use nffrt::prepare;
 use nffrt::nff::parse_bytes;
 use nffrt::render::{render, RenderOptions, Sampling};
 
@@ -22,8 +22,8 @@ fuzz_target!(|data: &[u8]| {
     let Ok(scene) = parse_bytes(data) else {
         return;
     };
-    let bvh = Bvh::new(build_geometry(&scene));
-    if let Err(e) = bvh.validate() {
+    let scene = prepare(scene, &Assets::default());
+    if let Err(e) = scene.accel().validate() {
         panic!("invalid BVH: {e}");
     }
     // One thread: fuzzing runs one job beside other work, and rayon's pool would
@@ -43,7 +43,7 @@ fuzz_target!(|data: &[u8]| {
             sampling,
             ..Default::default()
         };
-        let (image, _) = pool.install(|| render(&scene, &bvh, &opts));
+        let (image, _) = pool.install(|| render(&scene, scene.view(), &opts));
         assert_eq!(image.pixels.len(), 64);
         for (i, p) in image.pixels.iter().enumerate() {
             assert!(p.is_finite(), "pixel {i} is {p:?}");

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use nffrt::load::LoadError;
-use nffrt::prepared::RenderError;
+use nffrt::prepare::RenderError;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
 use pyo3::prelude::*;
 
@@ -50,9 +50,8 @@ pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError) -> PyErr {
         }
         // A file the scene names (a skybox image) is missing, unreadable or corrupt:
         // an OSError naming it, as the command line treats it.
-        LoadError::Io { path, message } | LoadError::Asset { path, message } => {
-            PyOSError::new_err(format!("{}: {message}", path.display()))
-        }
+        LoadError::Asset { path, message } => PyOSError::new_err(format!("{}: {message}", path.display())),
+        LoadError::Io { .. } | LoadError::TooLarge { .. } => PyOSError::new_err(e.to_string()),
         LoadError::Cancelled => PyKeyboardInterrupt::new_err("loading was cancelled"),
     }
 }

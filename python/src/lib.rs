@@ -1,5 +1,5 @@
 //! `nffrt._nffrt`, the compiled half of the Python package `nffrt`: scenes loaded
-//! or parsed into [`scene::PyScene`] (a `nffrt::PreparedScene`), rendered into
+//! or parsed into [`scene::PyScene`] (a `nffrt::RenderScene`), rendered into
 //! numpy arrays without the GIL; the SPD generators; image files written as the
 //! command line writes them; the bands of a split render. The Python package
 //! (python/nffrt/) re-exports all of it and adds tiles, merging and Dask.

@@ -1,5 +1,5 @@
-//! `nffrt.Scene`: a loaded scene with its BVH (one `nffrt::PreparedScene`), its
-//! description as plain Python values, and `render`, which releases the GIL.
+//! `nffrt.Scene`: a loaded scene made ready to render (one `nffrt::RenderScene`),
+//! its description as plain Python values, and `render`, which releases the GIL.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -7,13 +7,12 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use nffrt::image::Region;
-use nffrt::load::load_bytes_cancellable;
+use nffrt::load::{load_cancellable, LoadOptions, Source};
 use nffrt::math::Vec3;
-use nffrt::nff::{Format, Limits};
-use nffrt::prepared::image_size;
-use nffrt::render::{RenderOptions, Sampling, Stats};
-use nffrt::scene::{Dialect, Light};
-use nffrt::PreparedScene;
+use nffrt::nff::Format;
+use nffrt::prepare::{prepare, RenderScene};
+use nffrt::render::{image_size, RenderOptions, RenderRequest, Stats};
+use nffrt::scene::{Dialect, Light, SceneInfo};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
@@ -29,7 +28,7 @@ const PREVIEW_SIDE: u32 = 256;
 /// of times, from any thread.
 #[pyclass(frozen, module = "nffrt", name = "Scene")]
 pub struct PyScene {
-    prepared: PreparedScene,
+    prepared: RenderScene,
     path: Option<PathBuf>,
     format: Format,
     last_stats: Mutex<Option<(Stats, f64)>>,
@@ -56,12 +55,15 @@ enum LoadFailure {
 pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<PyScene> {
     let format = format.unwrap_or_else(|| Format::of_path(&path));
     let prepared = without_gil(py, None, |cancel| {
+        // Read here, so that a missing file raises the OSError subclass of its errno.
         let bytes = std::fs::read(&path).map_err(LoadFailure::Read)?;
         let name = path.display().to_string();
-        let limits = Limits::default();
-        load_bytes_cancellable(&bytes, format, &name, path.parent(), &limits, cancel.flag())
-            .map(PreparedScene::new)
-            .map_err(LoadFailure::Load)
+        let source = Source::Text {
+            name: &name,
+            bytes: &bytes,
+            dir: path.parent(),
+        };
+        load_prepared(source, format, cancel.flag()).map_err(LoadFailure::Load)
     })?;
     let prepared = prepared.map_err(|e| match e {
         LoadFailure::Read(e) => io_error(&path, &e),
@@ -74,11 +76,29 @@ pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<P
 /// the current directory); Ctrl-C stops the parse.
 pub fn parse(py: Python<'_>, text: &[u8], format: Format) -> PyResult<PyScene> {
     let prepared = without_gil(py, None, |cancel| {
-        let limits = Limits::default();
-        load_bytes_cancellable(text, format, "<string>", None, &limits, cancel.flag()).map(PreparedScene::new)
+        let source = Source::Text {
+            name: "<string>",
+            bytes: text,
+            dir: None,
+        };
+        load_prepared(source, format, cancel.flag())
     })?;
     let prepared = prepared.map_err(|e| load_error(py, None, e))?;
     Ok(PyScene::new(prepared, None, format))
+}
+
+/// Loads `source` in `format` (the library's defaults otherwise) and prepares it.
+fn load_prepared(
+    source: Source<'_>,
+    format: Format,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<RenderScene, nffrt::load::LoadError> {
+    let opts = LoadOptions {
+        format: Some(format),
+        ..LoadOptions::default()
+    };
+    let loaded = load_cancellable(source, &opts, cancel)?;
+    Ok(prepare(loaded.scene, &loaded.assets))
 }
 
 /// The bytes of a `str` (UTF-8) or `bytes` object.
@@ -102,7 +122,7 @@ fn vec3(v: Vec3) -> (f32, f32, f32) {
 }
 
 impl PyScene {
-    fn new(prepared: PreparedScene, path: Option<PathBuf>, format: Format) -> PyScene {
+    fn new(prepared: RenderScene, path: Option<PathBuf>, format: Format) -> PyScene {
         PyScene {
             prepared,
             path,
@@ -124,30 +144,28 @@ impl PyScene {
         aperture: Option<f32>,
         focal: Option<f32>,
     ) -> PyResult<RenderOptions> {
-        let scene = self.prepared.scene();
         if spd && spp.is_some() {
             return Err(value_error(
                 "spd=True has its own sampling: it cannot be combined with spp",
             ));
         }
-        if spp == Some(0) {
-            return Err(value_error("spp=0: samples per pixel go from 1 up"));
-        }
-        let sampling = match (spd, spp.or(scene.spp)) {
-            (true, _) => Sampling::SpdCorners,
-            (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
-            _ => Sampling::PixelCenters,
-        };
-        let (width, height) = image_size(width, height, scene.view.width, scene.view.height);
-        Ok(RenderOptions {
+        let request = RenderRequest {
             width,
             height,
-            max_depth,
-            sampling,
+            spp,
+            spd,
+            max_depth: Some(max_depth),
             aperture,
             focal,
-            ..RenderOptions::default()
-        })
+            ..RenderRequest::default()
+        };
+        let resolved = request.resolve(self.info()).map_err(value_error)?;
+        Ok(resolved.opts)
+    }
+
+    /// The scene's settings and summary.
+    fn info(&self) -> &SceneInfo {
+        self.prepared.info()
     }
 
     /// Renders `region` (the whole image when `None`) on `threads` threads without
@@ -166,7 +184,8 @@ impl PyScene {
         let pool = pool(threads)?;
         let t0 = Instant::now();
         let rendered = without_gil(py, pool.as_ref(), |cancel| {
-            self.prepared.render_region(opts, &region, cancel)
+            self.prepared
+                .render_region(self.prepared.view(), opts, &region, cancel)
         })?;
         let (image, stats) = rendered.map_err(render_error)?;
         if let Ok(mut last) = self.last_stats.lock() {
@@ -212,9 +231,9 @@ impl PyScene {
     /// The `(width, height)` that `render(width=..., height=...)` makes: the file's
     /// size, or one side given and the other following the file's aspect ratio.
     #[pyo3(signature = (width=None, height=None))]
-    fn image_size(&self, width: Option<u32>, height: Option<u32>) -> (u32, u32) {
-        let view = &self.prepared.scene().view;
-        image_size(width, height, view.width, view.height)
+    fn image_size(&self, width: Option<u32>, height: Option<u32>) -> PyResult<(u32, u32)> {
+        let view = self.prepared.view();
+        image_size(width, height, view.width, view.height).map_err(value_error)
     }
 
     /// The ray counts of the last render that finished (`None` before any):
@@ -256,7 +275,7 @@ impl PyScene {
     /// The language: `"nff"`, `"p3f-2019"` or `"p3f-2025"` (the P3F course's dialects).
     #[getter]
     fn format(&self) -> &'static str {
-        match (self.format, self.prepared.scene().dialect) {
+        match (self.format, self.info().dialect) {
             (_, Dialect::P3f2019) => "p3f-2019",
             (_, Dialect::P3f2025) => "p3f-2025",
             (Format::P3f, Dialect::Nff) => "p3f",
@@ -267,31 +286,31 @@ impl PyScene {
     /// The file's image width in pixels.
     #[getter]
     fn width(&self) -> u32 {
-        self.prepared.scene().view.width
+        self.info().view.width
     }
 
     /// The file's image height in pixels.
     #[getter]
     fn height(&self) -> u32 {
-        self.prepared.scene().view.height
+        self.info().view.height
     }
 
     /// The file's samples per pixel (P3F `spp`), or `None`.
     #[getter]
     fn spp(&self) -> Option<u32> {
-        self.prepared.scene().spp
+        self.info().spp
     }
 
     /// Primitive counts by kind, with `primitives` (all of them), `lights` and
     /// `materials`.
     #[getter]
     fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = self.prepared.scene();
+        let s = self.info();
         let d = PyDict::new(py);
-        for (key, n) in s.kind_counts().into_iter().chain([
-            ("meshes", s.meshes.len()),
-            ("mesh_triangles", s.mesh_triangles.len()),
-            ("primitives", s.primitive_count()),
+        for (key, n) in s.kind_counts.iter().copied().chain([
+            ("meshes", s.meshes),
+            ("mesh_triangles", s.mesh_triangles),
+            ("primitives", s.primitives),
             ("lights", s.lights.len()),
             ("materials", s.materials.len()),
         ]) {
@@ -304,7 +323,7 @@ impl PyScene {
     /// `hither`, `width`, `height`, `aperture` (pixels), `focal` (over |from - at|).
     #[getter]
     fn camera<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let v = &self.prepared.scene().view;
+        let v = &self.info().view;
         let d = PyDict::new(py);
         d.set_item("from", vec3(v.from))?;
         d.set_item("at", vec3(v.at))?;
@@ -335,27 +354,27 @@ impl PyScene {
             }
             Ok(d)
         };
-        self.prepared.scene().lights.iter().map(light).collect()
+        self.info().lights.iter().map(light).collect()
     }
 
     /// The background colour.
     #[getter]
     fn background(&self) -> (f32, f32, f32) {
-        vec3(self.prepared.scene().background)
+        vec3(self.info().background)
     }
 
     /// `(min, max)` corners of the bounded primitives (planes excluded), or `None`.
     #[getter]
     #[allow(clippy::type_complexity)]
     fn bounds(&self) -> Option<((f32, f32, f32), (f32, f32, f32))> {
-        let b = self.prepared.scene().bounds();
+        let b = self.info().bounds;
         (!b.is_empty()).then(|| (vec3(b.min), vec3(b.max)))
     }
 
     /// What the parser tolerated: `(line, column, message)` tuples.
     #[getter]
     fn warnings(&self) -> Vec<(u32, u32, String)> {
-        let w = &self.prepared.scene().warnings;
+        let w = &self.info().warnings;
         w.iter().map(|w| (w.line, w.column, w.message.clone())).collect()
     }
 
@@ -371,12 +390,12 @@ impl PyScene {
     }
 
     fn __repr__(&self) -> String {
-        let s = self.prepared.scene();
+        let s = self.info();
         let name = self.path.as_deref().map(Path::display);
         let name = name.map(|n| format!("{n}: ")).unwrap_or_default();
         format!(
             "<nffrt.Scene {name}{} primitives, {} lights, {}x{}>",
-            s.primitive_count(),
+            s.primitives,
             s.lights.len(),
             s.view.width,
             s.view.height

@@ -8,7 +8,7 @@ use clap::Args;
 use rayon::prelude::*;
 
 use super::limits::RenderLimitArgs;
-use super::load::{load_scene_with, Fingerprint};
+use super::load::{load_scene, Need};
 use super::output::brief;
 use super::values::whole_number;
 use super::CliError;
@@ -67,7 +67,7 @@ struct Timing {
 pub fn run(args: BenchArgs) -> Result<(), CliError> {
     // The rays file first: a bad one is reported before anything is built or printed.
     let file_rays = args.rays.as_ref().map(read_rays).transpose()?;
-    let loaded = load_scene_with(&args.scene, &args.limits.scene, Fingerprint::None)?;
+    let loaded = load_scene(&args.scene, &args.limits.scene, Need::Summary)?;
     let scene = &loaded.scene;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads as usize)
@@ -100,7 +100,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             args.limits.max_pixels
         )));
     }
-    let camera = Camera::new(&scene.view, &RenderOptions::from_scene(scene));
+    let camera = Camera::new(&scene.view, &RenderOptions::from_view(&scene.view));
     let primary: Vec<Ray> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .map(|(i, j)| camera.ray_at(i as f32 + 0.5, j as f32 + 0.5))

@@ -6,7 +6,7 @@ use clap::Args;
 use serde::Serialize;
 
 use super::limits::SceneLimitArgs;
-use super::load::{load_scene_with, print_warnings, Fingerprint};
+use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
@@ -93,7 +93,7 @@ struct InfoJson {
 
 /// Runs `nffrt info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
-    let loaded = load_scene_with(&args.scene, &args.limits, Fingerprint::None)?;
+    let loaded = load_scene(&args.scene, &args.limits, Need::Summary)?;
     let s = &loaded.scene;
     let b = s.bounds();
     let bounds = (!b.is_empty()).then_some((b.min.to_array(), b.max.to_array()));

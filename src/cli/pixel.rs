@@ -4,20 +4,18 @@
 
 use std::io::Write;
 
-use super::load::{load_scene_with, print_warnings, Fingerprint};
-use super::render::{render_options, RenderArgs};
+use super::load::{load_scene, print_warnings, Need};
+use super::render::{resolve, RenderArgs};
 use super::CliError;
-use nffrt::accel::Bvh;
-use nffrt::geometry::build_geometry;
+use nffrt::prepare::prepare;
 use nffrt::render::debug::trace_pixel;
 
 /// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`
 /// on pixel `(x, y)`.
 pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
-    let loaded = load_scene_with(&args.scene, &args.limits.scene, Fingerprint::None)?;
+    let loaded = load_scene(&args.scene, &args.limits.scene, Need::Render)?;
     print_warnings(&loaded, 20);
-    let scene = &loaded.scene;
-    let opts = render_options(args, scene);
+    let opts = resolve(args, &loaded.scene.info())?;
     if x >= opts.width || y >= opts.height {
         return Err(CliError::usage(format!(
             "--pixel {x},{y} is outside the {}x{} image (columns 0..{}, rows 0..{})",
@@ -27,8 +25,8 @@ pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
             opts.height - 1
         )));
     }
-    let bvh = Bvh::new(build_geometry(scene));
-    let trace = trace_pixel(scene, &bvh, &opts, x, y);
+    let scene = prepare(loaded.scene, &loaded.assets);
+    let trace = trace_pixel(&scene, scene.view(), &opts, x, y);
     let mut out = std::io::stdout().lock();
     match write!(out, "{trace}").and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {

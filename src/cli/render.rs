@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
-use super::load::{build_bvh, load_scene_with, print_warnings, Fingerprint};
+use super::load::{load_scene, print_warnings, Need};
 use super::output::{cannot_write, AtomicOutput};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
@@ -19,9 +19,9 @@ use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
-use nffrt::prepared::image_size;
-use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling};
-use nffrt::Scene;
+use nffrt::prepare::prepare;
+use nffrt::render::{region_eye_rows, render_region, RenderOptions, RenderRequest, Resolved};
+use nffrt::scene::SceneInfo;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
@@ -117,24 +117,31 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     }
 }
 
-/// The render settings `args` ask for on `scene`.
-pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
-    let (width, height) = image_size(args.width, args.height, scene.view.width, scene.view.height);
-    RenderOptions {
-        width,
-        height,
-        max_depth: args.max_depth,
-        // The file's `spp` (P3F) is the default; the flag wins.
-        sampling: match (args.spd, args.spp.or(scene.spp)) {
-            (true, _) => Sampling::SpdCorners,
-            (false, Some(n)) if n > 1 => Sampling::Stratified { spp: n },
-            _ => Sampling::PixelCenters,
-        },
+/// What `args` ask of the render.
+pub fn request(args: &RenderArgs) -> RenderRequest {
+    RenderRequest {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        spd: args.spd,
+        max_depth: Some(args.max_depth),
         aperture: args.aperture,
         focal: args.focal,
         light_samples: args.light_samples,
-        ..Default::default()
+        hard_shadows: false,
     }
+}
+
+/// The render settings `args` ask for on `scene`, its notes printed to standard
+/// error (unless `--quiet`); a request the scene cannot take is a usage error.
+pub fn resolve(args: &RenderArgs, scene: &SceneInfo) -> Result<RenderOptions, CliError> {
+    let Resolved { opts, notes } = request(args).resolve(scene).map_err(CliError::usage)?;
+    if !args.quiet {
+        for note in notes {
+            eprintln!("note: {note}");
+        }
+    }
+    Ok(opts)
 }
 
 /// A finite number of at least 0 (for `--aperture`).
@@ -178,15 +185,17 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         .num_threads(threads)
         .build()
         .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
-    let fingerprint = if args.region.is_some() {
-        Fingerprint::Scene
+    let need = if args.region.is_some() {
+        Need::Tile
     } else {
-        Fingerprint::None
+        Need::Render
     };
-    let mut loaded = pool.install(|| load_scene_with(&args.scene, &args.limits.scene, fingerprint))?;
+    let t0 = Instant::now();
+    let loaded = pool.install(|| load_scene(&args.scene, &args.limits.scene, need))?;
+    let load_s = t0.elapsed().as_secs_f64();
     print_warnings(&loaded, 20);
-    let scene = &loaded.scene;
-    let opts = render_options(&args, scene);
+    let info = loaded.scene.info();
+    let opts = resolve(&args, &info)?;
     let full = Region::full(opts.width, opts.height);
     let region = args.region.unwrap_or(full);
     region
@@ -199,18 +208,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let stats_file = args.stats_json.as_deref().filter(|p| !is_stdout(p));
     let mut stats_out = stats_file.map(AtomicOutput::create).transpose()?;
 
-    let t0 = Instant::now();
-    let bvh = pool.install(|| build_bvh(&mut loaded.scene));
-    let scene = &loaded.scene;
-    let build_s = t0.elapsed().as_secs_f64();
-    interrupt::check()?;
     let t1 = Instant::now();
+    let skybox = loaded.assets.skybox.is_some();
+    let scene = pool.install(|| prepare(loaded.scene, &loaded.assets));
+    let build_s = t1.elapsed().as_secs_f64();
+    interrupt::check()?;
+    let t2 = Instant::now();
     let progress = Progress::new(region_eye_rows(&opts, &region), progress_mode(&args));
-    let rendered = pool.install(|| render_region(scene, &bvh, &opts, &region, &progress));
+    let rendered = pool.install(|| render_region(&scene, scene.view(), &opts, &region, &progress));
     progress.finish();
     let (image, rays) =
         rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
-    let render_s = t1.elapsed().as_secs_f64();
+    let render_s = t2.elapsed().as_secs_f64();
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
     if let Some(scene_print) = loaded.fingerprint {
@@ -219,10 +228,10 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     output.write_image(&image, format, &text)?;
 
     let report = StatsReport::new(
-        stats::settings(&opts, &region, threads, scene),
-        bvh.primitive_count(),
+        stats::settings(&opts, &region, threads, &info, skybox),
+        scene.primitive_count(),
         rays,
-        [loaded.parse_s, build_s, render_s],
+        [load_s, loaded.parse_s, build_s, render_s],
     );
     if let (Some(mut out), Some(path)) = (stats_out.take(), stats_file) {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
@@ -245,9 +254,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             format!(" (region {region})")
         };
         eprintln!(
-            "rendered {} in {:.2} s: {} rays, {:.1} Mrays/s, {}x{}{crop}, {}, {} threads",
+            "rendered {} in {:.2} s (load {:.2}, build {:.2}, render {:.2} s): {} rays, {:.1} Mrays/s, {}x{}{crop}, {}, {} threads",
             display_name(&out_path),
-            build_s + render_s,
+            load_s + build_s + render_s,
+            load_s,
+            build_s,
+            render_s,
             report.total_rays,
             report.mrays_per_s,
             opts.width,

@@ -10,7 +10,7 @@ use serde_json::{json, Value};
 
 use nffrt::image::Region;
 use nffrt::render::{RenderOptions, Sampling, Stats};
-use nffrt::Scene;
+use nffrt::scene::SceneInfo;
 
 /// The settings of a render, in report order: `(JSON key, value)`; the text report
 /// labels each with its key, underscores as spaces.
@@ -33,7 +33,13 @@ impl Serialize for Settings {
 /// pixel shares with its neighbours), the depth, and the effects in use: the lens
 /// (aperture in pixels, 0 for a pinhole, and focal ratio, from the flags or the
 /// scene), the area lights and how they are sampled, the skybox, the shading model.
-pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &Scene) -> Settings {
+pub fn settings(
+    opts: &RenderOptions,
+    region: &Region,
+    threads: usize,
+    scene: &SceneInfo,
+    skybox: bool,
+) -> Settings {
     let sampling = match opts.sampling {
         Sampling::PixelCenters => "centres",
         Sampling::Stratified { .. } => "stratified",
@@ -41,7 +47,7 @@ pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &S
         Sampling::SpdCorners => "spd-corners",
     };
     let spp = opts.sampling.samples_per_pixel();
-    let area_lights = scene.lights.iter().filter(|l| l.area.is_some()).count();
+    let area_lights = scene.area_lights();
     let light_sampling = match (area_lights, opts.soft_shadows, opts.light_samples) {
         (0, _, _) => "none".to_string(),
         (_, false, _) => "centre".to_string(),
@@ -49,7 +55,6 @@ pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &S
         (_, true, None) if spp > 1 => "one per sample, stratified".to_string(),
         (_, true, None) => "the lights' grids".to_string(),
     };
-    let skybox = scene.environment.as_ref().is_some_and(|e| e.skybox.is_some());
     let shading = if scene.dialect.is_p3f() { "p3f" } else { "nff" };
     Settings(vec![
         ("width", json!(opts.width)),
@@ -84,7 +89,9 @@ pub struct StatsReport {
     pub rays: Stats,
     /// All rays traced.
     pub total_rays: u64,
-    /// Seconds spent parsing.
+    /// Seconds spent loading: reading and parsing the scene, reading the files it names.
+    pub load_s: f64,
+    /// Of those, seconds spent parsing.
     pub parse_s: f64,
     /// Seconds spent building the BVH.
     pub build_s: f64,
@@ -96,13 +103,14 @@ pub struct StatsReport {
 
 impl StatsReport {
     /// The report of a render that traced `rays` in `render_s` seconds.
-    pub fn new(settings: Settings, primitives: usize, rays: Stats, times: [f64; 3]) -> Self {
-        let [parse_s, build_s, render_s] = times;
+    pub fn new(settings: Settings, primitives: usize, rays: Stats, times: [f64; 4]) -> Self {
+        let [load_s, parse_s, build_s, render_s] = times;
         StatsReport {
             settings,
             primitives,
             rays,
             total_rays: rays.total_rays(),
+            load_s,
             parse_s,
             build_s,
             render_s,
@@ -135,10 +143,10 @@ impl StatsReport {
             ),
             line("total rays", &self.total_rays.to_string()),
             line(
-                "parse/build/render",
+                "load/build/render",
                 &format!(
-                    "{:.3} / {:.3} / {:.3} s",
-                    self.parse_s, self.build_s, self.render_s
+                    "{:.3} / {:.3} / {:.3} s (parse {:.3} s)",
+                    self.load_s, self.build_s, self.render_s, self.parse_s
                 ),
             ),
             line("speed", &format!("{:.2} Mrays/s", self.mrays_per_s)),
@@ -178,10 +186,10 @@ mod tests {
             ..Stats::default()
         };
         let report = StatsReport::new(
-            settings(&opts, &region, 2, &Scene::default()),
+            settings(&opts, &region, 2, &nffrt::Scene::default().info(), false),
             1,
             rays,
-            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 0.0, 1.0],
         );
         let text = report.text();
         for want in [

@@ -23,7 +23,6 @@ impl Parser<'_> {
             folder: String::from_utf8_lossy(t.text).into_owned(),
             line: t.line,
             column: t.column,
-            skybox: None,
         });
         Ok(())
     }

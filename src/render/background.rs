@@ -5,7 +5,6 @@ use std::sync::Arc;
 
 use crate::image::skybox::{SkyTexel, Skybox};
 use crate::math::Vec3;
-use crate::scene::Scene;
 
 /// What rays that leave the scene see.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,11 +16,11 @@ pub enum Background {
 }
 
 impl Background {
-    /// The scene's background: its skybox when one was loaded, else its colour.
-    pub fn of(scene: &Scene) -> Background {
-        match scene.environment.as_ref().and_then(|e| e.skybox.clone()) {
+    /// The skybox when there is one, else the background colour.
+    pub fn new(color: Vec3, skybox: Option<Arc<Skybox>>) -> Background {
+        match skybox {
             Some(sky) => Background::Skybox(sky),
-            None => Background::Color(scene.background),
+            None => Background::Color(color),
         }
     }
 

@@ -1,6 +1,6 @@
 //! `--pixel`: trace one pixel exactly as the renderer does and keep the ray tree.
 //!
-//! [`trace_pixel`] runs the same [`Tracer`] code path as [`super::render`] with a
+//! [`trace_pixel`] runs the same integrator as [`super::render`] with a
 //! [`Recorder`] that builds a [`RayNode`] tree per eye ray, and combines the samples
 //! with the same functions, so the value it reports is bit for bit the rendered
 //! pixel's. [`PixelTrace`]'s `Display` prints the tree indented, one line per fact;
@@ -9,14 +9,14 @@
 
 use std::fmt;
 
-use super::trace::{AreaOutcome, Branch, HitRecord, LightOutcome, Recorder, Tracer};
-use super::{pixel_mean, spd_mean, Camera, CameraSample, RenderOptions, SampleId, Sampling, Stats};
-use crate::accel::Bvh;
+use super::integrator::{AreaOutcome, HitRecord, LightOutcome, Recorder, TraceContext};
+use super::{spd_mean, Branch, CameraSample, Frame, RenderOptions, SampleId, Sampling, Stats};
 use crate::geometry::SourceKind;
 use crate::image::quantize;
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
-use crate::scene::{Dialect, Material, Scene};
+use crate::prepare::RenderScene;
+use crate::scene::{Dialect, Material, View};
 
 /// One ray of the tree and what it saw.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -101,7 +101,7 @@ pub struct PixelTrace {
 
 /// Builds the tree from the recursion's events.
 struct TreeRecorder<'a> {
-    scene: &'a Scene,
+    materials: &'a [Material],
     open: Vec<(Option<(Branch, Vec3)>, RayNode)>,
     pending: Option<(Branch, Vec3)>,
     /// Points of the area light being sampled.
@@ -156,7 +156,7 @@ impl Recorder for TreeRecorder<'_> {
                 depth: h.depth,
                 kind: h.primitive.kind,
                 line: h.primitive.line,
-                material: (m, self.scene.materials[m as usize]),
+                material: (m, self.materials[m as usize]),
                 t: h.t,
                 point: h.point,
                 normal: h.normal,
@@ -197,38 +197,42 @@ impl Recorder for TreeRecorder<'_> {
     }
 }
 
-/// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) as the renderer does.
-pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
-    let camera = Camera::new(&scene.view, opts);
-    let tracer = Tracer::new(scene, bvh, opts);
-    let mut stats = Stats::default();
+/// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) of `scene` seen by
+/// `view` as the renderer does.
+pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
+    let frame = Frame::new(scene, view, opts);
+    let mut ctx = TraceContext::default();
     let mut samples = Vec::new();
-    super::trace::reset_shadow_cache();
     let mut trace_at = |sample: CameraSample, id: SampleId| {
         let mut rec = TreeRecorder {
-            scene,
+            materials: scene.materials(),
             open: Vec::new(),
             pending: None,
             points: Vec::new(),
             root: None,
         };
-        let c = tracer.trace_eye_recorded(&camera.ray(&sample), &id, &mut stats, &mut rec);
+        let c = frame.sample_radiance(&sample, &id, &mut ctx, &mut rec);
         samples.push((sample, rec.root.expect("every eye ray records a tree")));
         c
     };
     let value = match opts.sampling {
-        Sampling::PixelCenters => trace_at(
-            CameraSample::at(x as f32 + 0.5, y as f32 + 0.5),
-            SampleId::single(x, y),
-        ),
-        Sampling::Stratified { .. } | Sampling::Independent { .. } => {
-            pixel_mean(&opts.sampling.pixel_sampler(camera.has_lens()), x, y, trace_at)
-        }
         Sampling::SpdCorners => {
             let (fx, fy) = (x as f32, y as f32);
             let c = [(fx, fy), (fx + 1.0, fy), (fx, fy + 1.0), (fx + 1.0, fy + 1.0)]
                 .map(|(a, b)| trace_at(CameraSample::at(a, b), SampleId::single(a as u32, b as u32)));
             spd_mean(c[0], c[1], c[2], c[3])
+        }
+        // The render's sum: each sample weighted by 1/n, added in order.
+        _ => {
+            let sampler = *frame.sampler();
+            let n = sampler.count();
+            let weight = 1.0 / n as f32;
+            let mut sum = Vec3::ZERO;
+            for s in 0..n {
+                let (sample, id) = sampler.sample(x, y, s);
+                sum += trace_at(sample, id) * weight;
+            }
+            sum
         }
     };
     PixelTrace {
@@ -236,11 +240,11 @@ pub fn trace_pixel(scene: &Scene, bvh: &Bvh, opts: &RenderOptions, x: u32, y: u3
         y,
         opts: *opts,
         samples,
-        lens: camera.has_lens(),
+        lens: frame.camera().has_lens(),
         value,
-        stats,
-        lights: scene.lights.iter().map(|l| l.position).collect(),
-        dialect: scene.dialect,
+        stats: ctx.stats,
+        lights: scene.info().lights.iter().map(|l| l.position).collect(),
+        dialect: scene.info().dialect,
     }
 }
 
@@ -429,7 +433,8 @@ impl fmt::Display for PixelTrace {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::build_geometry;
+    use crate::load::Assets;
+    use crate::prepare::prepare;
 
     /// Counts in a tree: (hits, reflection rays, refraction rays, shadow rays, blocked).
     fn tally(node: &RayNode, acc: &mut [u64; 5]) {
@@ -461,12 +466,12 @@ mod tests {
              f 1 1 1 0.1 0.1 50 0.9 1.5\ns -0.8 0 1 0.8\nf 0.9 0.9 0.9 0.1 0.9 50 0 1\ns 1 0.8 1 0.7\n",
         )
         .unwrap();
-        let bvh = Bvh::new(build_geometry(&scene));
-        let opts = RenderOptions::from_scene(&scene);
+        let scene = prepare(scene, &Assets::default());
+        let opts = RenderOptions::from_view(scene.view());
         let mut refracted = 0;
         for y in 0..opts.height {
             for x in 0..opts.width {
-                let t = trace_pixel(&scene, &bvh, &opts, x, y);
+                let t = trace_pixel(&scene, scene.view(), &opts, x, y);
                 let mut acc = [0; 5];
                 tally(&t.samples[0].1, &mut acc);
                 let s = &t.stats;
@@ -490,8 +495,14 @@ mod tests {
              f 1 1 1 1 0 1 0 1\ns 0 0 0 1\n",
         )
         .unwrap();
-        let bvh = Bvh::new(build_geometry(&scene));
-        let t = trace_pixel(&scene, &bvh, &RenderOptions::from_scene(&scene), 1, 1);
+        let scene = prepare(scene, &Assets::default());
+        let t = trace_pixel(
+            &scene,
+            scene.view(),
+            &RenderOptions::from_view(scene.view()),
+            1,
+            1,
+        );
         let json = serde_json::to_value(&t).unwrap();
         let hit = &json["samples"][0][1]["hit"];
         assert_eq!(hit["kind"], "Sphere");

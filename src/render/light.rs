@@ -16,7 +16,7 @@
 //! - soft shadows off (the viewer's toggle): the light's centre alone.
 
 use crate::math::Vec3;
-use crate::scene::Scene;
+use crate::scene::Light;
 
 use super::sampling::{Dim, SampleId};
 
@@ -52,10 +52,9 @@ pub struct LightSampling {
 }
 
 impl LightSource {
-    /// The scene's lights with the given intensity for those without a colour.
-    pub fn of(scene: &Scene, default_intensity: Vec3) -> Vec<LightSource> {
-        scene
-            .lights
+    /// The scene's `lights` with the given intensity for those without a colour.
+    pub fn of(lights: &[Light], default_intensity: Vec3) -> Vec<LightSource> {
+        lights
             .iter()
             .map(|l| LightSource {
                 position: l.position,

@@ -1,4 +1,11 @@
-//! Whitted ray tracing of a prepared scene into a linear-RGB image.
+//! Rendering a [`RenderScene`] into a linear-RGB image.
+//!
+//! The pieces: the camera ([`Camera`]: pinhole or thin lens), the samples' pattern
+//! and their dimensions (`sampling`), the light sources and their sample points
+//! (`light`), the background, the shading rules (`shade`), the integrators behind
+//! one seam (`integrator`, `whitted`), the one sample loop over rows (`rows`), and
+//! the users of that loop: [`render_region`] here, progressive passes and previews
+//! (`progressive`) and one pixel's ray tree (`debug`).
 //!
 //! [`render`] splits the image into rows traced in parallel with rayon. Each row is
 //! computed independently and the rows are assembled in order, so the image is
@@ -9,29 +16,37 @@
 mod background;
 mod camera;
 pub mod debug;
+pub mod integrator;
 mod light;
 mod progressive;
+pub mod request;
+mod rows;
 mod sampling;
 mod shade;
 mod stats;
-mod trace;
+pub mod whitted;
 
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
+pub use integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext};
 pub use light::{LightQuad, LightSampling, LightSource};
 pub use progressive::{render_preview, Accumulator};
+pub use request::{image_size, RenderRequest, Resolved};
+pub use rows::Frame;
 pub use sampling::{permute, sample_2d, Dim, PixelSampler, PixelSeeds, SampleId, Sampling, Strata};
-pub use shade::{schlick, Model, P3fRules, Rules, SpdRules};
+pub use shade::{schlick, Branch, Lighting, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
-pub use trace::{AreaOutcome, Branch, HitRecord, LightOutcome, NoRecord, Recorder, Tracer};
 
 use rayon::prelude::*;
 
-use crate::accel::Bvh;
 use crate::image::{Image, Region};
-use crate::limits::DEFAULT_MAX_DEPTH;
-use crate::math::{Ray, Vec3};
-use crate::scene::Scene;
+use crate::limits::{
+    eye_grid_points, DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP,
+};
+use crate::math::Vec3;
+use crate::prepare::RenderScene;
+use crate::scene::View;
+use rows::each_row;
 
 /// How to render. Every field changes the picture.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -72,11 +87,11 @@ impl Default for RenderOptions {
 }
 
 impl RenderOptions {
-    /// The scene file's resolution, depth 5, pixel-centre sampling, the scene's lens.
-    pub fn from_scene(scene: &Scene) -> Self {
+    /// The view's resolution, depth 5, pixel-centre sampling, the view's lens.
+    pub fn from_view(view: &View) -> Self {
         RenderOptions {
-            width: scene.view.width,
-            height: scene.view.height,
+            width: view.width,
+            height: view.height,
             ..RenderOptions::default()
         }
     }
@@ -103,9 +118,10 @@ pub struct Silent;
 
 impl Observer for Silent {}
 
-/// Renders `scene` (already built into `bvh`) and returns the image and ray counts.
-pub fn render(scene: &Scene, bvh: &Bvh, opts: &RenderOptions) -> (Image, Stats) {
-    render_observed(scene, bvh, opts, &Silent).expect("a silent render is never cancelled")
+/// Renders `scene` seen by `view` and returns the image and ray counts.
+pub fn render(scene: &RenderScene, view: &View, opts: &RenderOptions) -> (Image, Stats) {
+    render_region(scene, view, opts, &Region::full(opts.width, opts.height), &Silent)
+        .expect("a silent render is never cancelled")
 }
 
 /// Number of eye-ray rows a render traces (for progress reporting).
@@ -121,23 +137,73 @@ pub fn region_eye_rows(opts: &RenderOptions, region: &Region) -> u64 {
     }
 }
 
-/// Renders like [`render`], reporting each finished row to `observer`; `None` if the
-/// observer cancelled the render.
-pub fn render_observed(
-    scene: &Scene,
-    bvh: &Bvh,
-    opts: &RenderOptions,
-    observer: &dyn Observer,
-) -> Option<(Image, Stats)> {
-    render_region(scene, bvh, opts, &Region::full(opts.width, opts.height), observer)
+/// Checks that `opts` can be rendered within [`crate::limits`]: a size of 1 to
+/// [`MAX_RESOLUTION`] per side, a depth of 1 to [`MAX_DEPTH`], 1 to [`MAX_SPP`]
+/// samples, a finite lens (aperture at least 0, focal distance above 0), 1 to
+/// [`MAX_LIGHT_SAMPLES`] light samples.
+pub fn check_settings(opts: &RenderOptions) -> Result<(), String> {
+    let (w, h) = (opts.width, opts.height);
+    if !(1..=MAX_RESOLUTION).contains(&w) || !(1..=MAX_RESOLUTION).contains(&h) {
+        return Err(format!(
+            "a {w}x{h} image: width and height go from 1 to {MAX_RESOLUTION}"
+        ));
+    }
+    if !(1..=MAX_DEPTH).contains(&opts.max_depth) {
+        return Err(format!(
+            "max depth {} is not between 1 and {MAX_DEPTH}",
+            opts.max_depth
+        ));
+    }
+    if let Sampling::Stratified { spp } | Sampling::Independent { spp } = opts.sampling {
+        if !(1..=MAX_SPP).contains(&spp) {
+            return Err(format!("{spp} samples per pixel is not between 1 and {MAX_SPP}"));
+        }
+    }
+    if let Some(a) = opts.aperture.filter(|a| !(a.is_finite() && *a >= 0.0)) {
+        return Err(format!("aperture {a} is not a finite number of at least 0"));
+    }
+    if let Some(f) = opts.focal.filter(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err(format!("focal distance {f} is not a finite number above 0"));
+    }
+    if let Some(n) = opts
+        .light_samples
+        .filter(|n| !(1..=MAX_LIGHT_SAMPLES).contains(n))
+    {
+        return Err(format!(
+            "{n} light samples is not between 1 and {MAX_LIGHT_SAMPLES}"
+        ));
+    }
+    Ok(())
 }
 
-/// Renders only `region` of the `opts.width` x `opts.height` image (it must lie
-/// inside) into a region-sized image whose pixels are exactly those the full render
-/// has there. `None` if the observer cancelled the render.
+/// Checks that `opts` can be rendered over `region` ([`check_settings`]), the region
+/// non-empty and inside the image, with at most [`MAX_PIXELS`] eye-ray grid points.
+pub fn check_options(opts: &RenderOptions, region: &Region) -> Result<(), String> {
+    check_settings(opts)?;
+    let (w, h) = (opts.width, opts.height);
+    let r = region;
+    if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
+        return Err(format!(
+            "region {r} is empty or does not fit in the {w}x{h} image (X1 and Y1 are exclusive)"
+        ));
+    }
+    let grid = eye_grid_points(r.width(), r.height(), opts.sampling);
+    if grid > MAX_PIXELS {
+        let (rw, rh) = (r.width(), r.height());
+        return Err(format!(
+            "{rw}x{rh} is {grid} eye-ray grid points, more than the limit of {MAX_PIXELS} (render it in tiles)"
+        ));
+    }
+    Ok(())
+}
+
+/// Renders only `region` of the `opts.width` x `opts.height` image of `scene` seen by
+/// `view` (the region must lie inside) into a region-sized image whose pixels are
+/// exactly those the full render has there. `None` if the observer cancelled the
+/// render.
 pub fn render_region(
-    scene: &Scene,
-    bvh: &Bvh,
+    scene: &RenderScene,
+    view: &View,
     opts: &RenderOptions,
     region: &Region,
     observer: &dyn Observer,
@@ -148,52 +214,19 @@ pub fn render_region(
         opts.width,
         opts.height
     );
-    let camera = Camera::new(&scene.view, opts);
-    let tracer = Tracer::new(scene, bvh, opts);
+    let frame = Frame::new(scene, view, opts);
     let (x0, y0) = (region.x0, region.y0);
     let (w, h) = (region.width() as usize, region.height() as usize);
-    // A row of eye rays through raster points (x0 + i + offset, y + offset) and the
-    // lens centre, traced in packets.
-    let eye_row = |offset: f32, cols: usize, y: u32, st: &mut Stats, out: &mut Vec<Vec3>| {
-        let rays: Vec<Ray> = (0..cols as u32)
-            .map(|i| camera.ray_at((x0 + i) as f32 + offset, y as f32 + offset))
-            .collect();
-        tracer.trace_eye_row(&rays, (x0, y), st, out);
-    };
-    let pixels = match opts.sampling {
-        Sampling::PixelCenters => {
-            trace_rows(y0, w, h, observer, true, |y, st, out| eye_row(0.5, w, y, st, out))
-        }
-        Sampling::Stratified { .. } | Sampling::Independent { .. } => {
-            let sampler = opts.sampling.pixel_sampler(camera.has_lens());
-            let (n, weight) = (sampler.count(), 1.0 / sampler.count() as f32);
-            trace_rows(y0, w, h, observer, true, |y, st, out| {
-                // Sample k of every pixel of the row, traced in packets: each pixel
-                // adds its samples in sample order, as `pixel_mean` does, so the sums
-                // are the very same.
-                let mut sums = vec![Vec3::ZERO; w];
-                let pixels: Vec<_> = (x0..x0 + w as u32).map(|x| sampler.pixel(x, y)).collect();
-                let (mut samples, mut ids) = (Vec::with_capacity(w), Vec::with_capacity(w));
-                let mut rays = Vec::with_capacity(w);
-                for k in 0..n {
-                    samples.clear();
-                    ids.clear();
-                    for pixel in &pixels {
-                        let (sample, id) = sampler.sample_of(pixel, k);
-                        samples.push(sample);
-                        ids.push(id);
-                    }
-                    camera.rays(&samples, &mut rays);
-                    tracer.trace_eyes(&rays, &ids, st, |i, c| sums[i] += c * weight);
-                }
-                out.extend(sums);
-            })
-        }
+    let (pixels, stats) = match opts.sampling {
         Sampling::SpdCorners => {
             // Corner (i, j) is the raster point (i, j): the region's pixels need the
             // corners x0..=x1, y0..=y1, the same rays the full render traces there.
-            let (corners, stats) = trace_rows(y0, w + 1, h + 1, observer, false, |y, st, out| {
-                eye_row(0.0, w + 1, y, st, out)
+            let xs: Vec<u32> = (x0..=region.x1).collect();
+            let mut corners = vec![Vec3::ZERO; (w + 1) * (h + 1)];
+            let stats = each_row(&mut corners, w + 1, observer, |j, place, ctx| {
+                let mut values = Vec::with_capacity(w + 1);
+                frame.corners(y0 + j, &xs, &mut values, ctx);
+                place.copy_from_slice(&values);
             })?;
             let mut pixels = vec![Vec3::ZERO; w * h];
             pixels.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
@@ -203,10 +236,20 @@ pub fn render_region(
                 }
                 observer.row_pixels(y0 + j as u32, row);
             });
-            Some((pixels, stats))
+            (pixels, stats)
+        }
+        _ => {
+            let xs: Vec<u32> = (x0..region.x1).collect();
+            let n = frame.sampler().count();
+            let weight = 1.0 / n as f32;
+            let mut pixels = vec![Vec3::ZERO; w * h];
+            let stats = each_row(&mut pixels, w, observer, |j, row, ctx| {
+                frame.add_samples(y0 + j, &xs, 0..n, weight, row, ctx);
+                observer.row_pixels(y0 + j, row);
+            })?;
+            (pixels, stats)
         }
     };
-    let (pixels, stats) = pixels?;
     Some((Image::from_pixels(w as u32, h as u32, pixels), stats))
 }
 
@@ -216,86 +259,4 @@ pub fn spd_mean(top_left: Vec3, top_right: Vec3, bottom_left: Vec3, bottom_right
     // Quartered before the sum (exact: a power of two), so four huge but finite
     // corners cannot overflow to infinity.
     top_left * 0.25 + top_right * 0.25 + bottom_left * 0.25 + bottom_right * 0.25
-}
-
-/// The box-filtered value of pixel `(x, y)` (not the SPD corners): the mean of
-/// `trace` over the pixel's samples, each weighted by `1/n` before the sum (in
-/// sample order) so that huge but finite samples cannot overflow to infinity.
-#[inline]
-pub fn pixel_mean(
-    sampler: &PixelSampler,
-    x: u32,
-    y: u32,
-    mut trace: impl FnMut(CameraSample, SampleId) -> Vec3,
-) -> Vec3 {
-    let n = sampler.count();
-    let weight = 1.0 / n as f32;
-    let mut sum = Vec3::ZERO;
-    for s in 0..n {
-        let (sample, id) = sampler.sample(x, y, s);
-        sum += trace(sample, id) * weight;
-    }
-    sum
-}
-
-/// Fills `rows` rows of `cols` values, row `y0 + j` by `row(y0 + j, stats, out)`
-/// (which appends `cols` values to `out`), rows in parallel ([`each_row`]),
-/// assembled in order; each row goes to [`Observer::row_pixels`] if `pixels` (rows
-/// of the image, not of SPD corners).
-fn trace_rows(
-    y0: u32,
-    cols: usize,
-    rows: usize,
-    observer: &dyn Observer,
-    pixels: bool,
-    row: impl Fn(u32, &mut Stats, &mut Vec<Vec3>) + Sync,
-) -> Option<(Vec<Vec3>, Stats)> {
-    // Each task copies its row into place, so no thread assembles the image alone.
-    let mut out = vec![Vec3::ZERO; cols * rows];
-    let stats = each_row(&mut out, cols, observer, |j, place, stats| {
-        let mut values = Vec::with_capacity(cols);
-        row(y0 + j, stats, &mut values);
-        place.copy_from_slice(&values);
-        if pixels {
-            observer.row_pixels(y0 + j, &values);
-        }
-    })?;
-    Some((out, stats))
-}
-
-/// Runs `row(j, place, stats)` on each row `j` of `pixels` (rows of `cols`) in
-/// parallel, each writing its row in place with an empty shadow cache; reports
-/// each row's rays to the observer and sums the counts. `None` once the observer
-/// cancels (rows not started then are left as they were).
-///
-/// Every row is a task of its own that an idle thread can steal: rayon's default
-/// splitting stops once each thread holds a few long runs of rows, and where rows
-/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
-/// then worked alone through the end of the image, a third of the render.
-fn each_row(
-    pixels: &mut [Vec3],
-    cols: usize,
-    observer: &dyn Observer,
-    row: impl Fn(u32, &mut [Vec3], &mut Stats) + Sync,
-) -> Option<Stats> {
-    let per_row: Option<Vec<Stats>> = pixels
-        .par_chunks_mut(cols)
-        .enumerate()
-        .with_max_len(1)
-        .map(|(j, place)| {
-            if observer.cancelled() {
-                return None;
-            }
-            let mut stats = Stats::default();
-            trace::reset_shadow_cache();
-            row(j as u32, place, &mut stats);
-            observer.row_done(stats.total_rays());
-            Some(stats)
-        })
-        .collect();
-    let mut stats = Stats::default();
-    for s in per_row? {
-        stats += s;
-    }
-    Some(stats)
 }

@@ -8,27 +8,29 @@
 //! An [`Accumulator`] holds, for every pixel, the running sum `Σ trace(s) · (1/N)`
 //! over the first `k` of the pixel's `N` samples ([`super::PixelSampler::sample`]: the
 //! pattern of the final sample count from the start), added in sample order: the
-//! very products, in the very order, that [`super::pixel_mean`] adds. After the last
+//! very products, in the very order, that a render adds: both go through the one
+//! sample loop ([`super::Frame::add_samples`]), eye rays in packets. After the last
 //! pass it therefore holds the rendered pixels bit for bit, however the samples were
 //! split into passes; before that, [`Accumulator::image`] shows the sum scaled by
-//! `N / k`. With one sample per pixel the pass traces rows of centre rays in packets,
-//! as the renderer does.
+//! `N / k`.
 
-use super::{each_row, Camera, Observer, RenderOptions, SampleId, Sampling, Stats, Tracer};
-use crate::accel::Bvh;
+use super::rows::{each_row, Frame};
+use super::Observer;
+use super::{RenderOptions, Sampling, Stats};
 use crate::image::Image;
 use crate::math::Vec3;
-use crate::scene::Scene;
+use crate::prepare::RenderScene;
+use crate::scene::View;
 
-/// A coarse picture of `opts`'s image: pixel `(i, j)` is the centre sample (through
-/// the lens centre) of the full image's pixel `(x, y)`, `x = min(i·stride +
-/// stride/2, w-1)` and `y` likewise, so the image is `ceil(w/stride)` x
-/// `ceil(h/stride)` and stands for the `stride` x `stride` block from `(i·stride, j·stride)`.
-/// Rows are reported to the observer as rows of the small image. `None` if the
-/// observer cancelled it.
+/// A coarse picture of `opts`'s image of `scene` seen by `view`: pixel `(i, j)` is
+/// the centre sample (through the lens centre) of the full image's pixel `(x, y)`,
+/// `x = min(i·stride + stride/2, w-1)` and `y` likewise, so the image is
+/// `ceil(w/stride)` x `ceil(h/stride)` and stands for the `stride` x `stride` block
+/// from `(i·stride, j·stride)`. Rows are reported to the observer as rows of the
+/// small image. `None` if the observer cancelled it.
 pub fn render_preview(
-    scene: &Scene,
-    bvh: &Bvh,
+    scene: &RenderScene,
+    view: &View,
     opts: &RenderOptions,
     stride: u32,
     observer: &dyn Observer,
@@ -36,16 +38,11 @@ pub fn render_preview(
     let stride = stride.max(1);
     let (w, h) = (opts.width.div_ceil(stride), opts.height.div_ceil(stride));
     let full = |i: u32, size: u32| (i * stride + stride / 2).min(size - 1);
-    let camera = Camera::new(&scene.view, opts);
-    let tracer = Tracer::new(scene, bvh, opts);
+    let frame = Frame::new(scene, view, opts).centres();
+    let xs: Vec<u32> = (0..w).map(|i| full(i, opts.width)).collect();
     let mut pixels = vec![Vec3::ZERO; w as usize * h as usize];
-    let stats = each_row(&mut pixels, w as usize, observer, |j, row, st| {
-        let y = full(j, opts.height);
-        for (i, p) in row.iter_mut().enumerate() {
-            let x = full(i as u32, opts.width);
-            let ray = camera.ray_at(x as f32 + 0.5, y as f32 + 0.5);
-            *p = tracer.trace_eye(&ray, &SampleId::single(x, y), st);
-        }
+    let stats = each_row(&mut pixels, w as usize, observer, |j, row, ctx| {
+        frame.add_samples(full(j, opts.height), &xs, 0..1, 1.0, row, ctx);
         observer.row_pixels(j, row);
     })?;
     Some((Image::from_pixels(w, h, pixels), stats))
@@ -54,6 +51,7 @@ pub fn render_preview(
 /// The full image converging sample by sample (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Accumulator {
+    view: View,
     opts: RenderOptions,
     /// Per pixel, row by row: the sum of its first `done` weighted samples.
     sums: Vec<Vec3>,
@@ -63,13 +61,14 @@ pub struct Accumulator {
 }
 
 impl Accumulator {
-    /// An empty accumulator for `opts` (no samples yet); `None` for
-    /// [`Sampling::SpdCorners`], whose pixels share corner rays.
-    pub fn new(opts: &RenderOptions) -> Option<Accumulator> {
+    /// An empty accumulator for the image seen by `view` with `opts` (no samples
+    /// yet); `None` for [`Sampling::SpdCorners`], whose pixels share corner rays.
+    pub fn new(view: &View, opts: &RenderOptions) -> Option<Accumulator> {
         if opts.sampling == Sampling::SpdCorners {
             return None;
         }
         Some(Accumulator {
+            view: *view,
             opts: *opts,
             sums: vec![Vec3::ZERO; opts.width as usize * opts.height as usize],
             done: 0,
@@ -97,41 +96,22 @@ impl Accumulator {
         &self.opts
     }
 
-    /// Traces the next `count` samples of every pixel (fewer if fewer are left) and
-    /// adds them in. Each finished row goes to the observer as it would show in
-    /// [`Accumulator::image`] now. `None` if the observer cancelled the pass, which
-    /// leaves the accumulator unusable (every later pass returns `None` too).
-    pub fn pass(&mut self, scene: &Scene, bvh: &Bvh, count: u32, observer: &dyn Observer) -> Option<Stats> {
+    /// Traces the next `count` samples of every pixel of `scene` (fewer if fewer are
+    /// left) and adds them in. Each finished row goes to the observer as it would
+    /// show in [`Accumulator::image`] now. `None` if the observer cancelled the pass,
+    /// which leaves the accumulator unusable (every later pass returns `None` too).
+    pub fn pass(&mut self, scene: &RenderScene, count: u32, observer: &dyn Observer) -> Option<Stats> {
         if self.torn {
             return None;
         }
         let n = self.samples_per_pixel();
         let (first, end) = (self.done, (self.done + count).min(n));
-        let opts = &self.opts;
-        let camera = Camera::new(&scene.view, opts);
-        let tracer = Tracer::new(scene, bvh, opts);
+        let frame = Frame::new(scene, &self.view, &self.opts);
         let weight = 1.0 / n as f32;
         let scale = n as f32 / end.max(1) as f32;
-        let packets = opts.sampling == Sampling::PixelCenters;
-        let sampler = (!packets).then(|| opts.sampling.pixel_sampler(camera.has_lens()));
-        let stats = each_row(&mut self.sums, opts.width as usize, observer, |y, row, st| {
-            if packets && first == 0 && end == 1 {
-                // One centre ray per pixel: the renderer's packet path, its values.
-                let rays: Vec<_> = (0..row.len())
-                    .map(|x| camera.ray_at(x as f32 + 0.5, y as f32 + 0.5))
-                    .collect();
-                let mut values = Vec::with_capacity(row.len());
-                tracer.trace_eye_row(&rays, (0, y), st, &mut values);
-                row.copy_from_slice(&values);
-            } else if let Some(sampler) = &sampler {
-                for (x, sum) in row.iter_mut().enumerate() {
-                    let pixel = sampler.pixel(x as u32, y);
-                    for s in first..end {
-                        let (sample, id) = sampler.sample_of(&pixel, s);
-                        *sum += tracer.trace_eye(&camera.ray(&sample), &id, st) * weight;
-                    }
-                }
-            }
+        let xs: Vec<u32> = (0..self.opts.width).collect();
+        let stats = each_row(&mut self.sums, xs.len(), observer, |y, row, ctx| {
+            frame.add_samples(y, &xs, first..end, weight, row, ctx);
             if end == n {
                 observer.row_pixels(y, row);
             } else {
@@ -162,9 +142,10 @@ impl Accumulator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::build_geometry;
+    use crate::load::Assets;
     use crate::nff::{parse_format, Format, Limits};
-    use crate::render::{render, Silent};
+    use crate::prepare::prepare;
+    use crate::render::{render, render_region, NoRecord, Silent, TraceContext};
     use std::sync::Mutex;
 
     /// A lens, a quad light and glass: every random dimension a sample has.
@@ -175,16 +156,15 @@ mod tests {
         mat 1 1 1 0.1 1 1 1 0.1 50 1 1.5\ns -0.8 0 1 0.8\n\
         mat 0.9 0.5 0.5 0.7 1 1 1 0.3 50 0 1\ns 1 0.8 1 0.7\n";
 
-    fn scene() -> (Scene, Bvh) {
+    fn scene() -> RenderScene {
         let scene = parse_format(P3F.as_bytes(), Format::P3f, &Limits::default()).unwrap();
-        let bvh = Bvh::new(build_geometry(&scene));
-        (scene, bvh)
+        prepare(scene, &Assets::default())
     }
 
-    fn opts(scene: &Scene, sampling: Sampling) -> RenderOptions {
+    fn opts(scene: &RenderScene, sampling: Sampling) -> RenderOptions {
         RenderOptions {
             sampling,
-            ..RenderOptions::from_scene(scene)
+            ..RenderOptions::from_view(scene.view())
         }
     }
 
@@ -209,7 +189,7 @@ mod tests {
 
     #[test]
     fn passes_of_any_size_end_in_the_rendered_image() {
-        let (scene, bvh) = scene();
+        let scene = scene();
         for sampling in [
             Sampling::PixelCenters,
             Sampling::Stratified { spp: 5 },
@@ -217,13 +197,13 @@ mod tests {
             Sampling::Independent { spp: 3 },
         ] {
             let opts = opts(&scene, sampling);
-            let (rendered, stats) = render(&scene, &bvh, &opts);
+            let (rendered, stats) = render(&scene, scene.view(), &opts);
             for split in [vec![1, 1, 2, 4, 8], vec![16], vec![3, 100]] {
-                let mut acc = Accumulator::new(&opts).unwrap();
+                let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
                 let mut traced = Stats::default();
                 for count in split {
                     if !acc.is_complete() {
-                        traced += acc.pass(&scene, &bvh, count, &Silent).unwrap();
+                        traced += acc.pass(&scene, count, &Silent).unwrap();
                     }
                 }
                 assert!(acc.is_complete(), "{sampling}");
@@ -235,18 +215,17 @@ mod tests {
 
     #[test]
     fn a_partial_image_is_the_sum_so_far_rescaled_and_rows_are_reported_as_shown() {
-        let (scene, bvh) = scene();
+        let scene = scene();
         let opts = opts(&scene, Sampling::Stratified { spp: 4 });
-        let mut acc = Accumulator::new(&opts).unwrap();
+        let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
         let rows = Rows::default();
-        acc.pass(&scene, &bvh, 1, &rows).unwrap();
+        acc.pass(&scene, 1, &rows).unwrap();
         assert_eq!(acc.samples_done(), 1);
         assert_eq!(rows.image(12, 9), acc.image());
         // One sample of four, weighted 1/4 and shown times 4: the sample itself.
-        let camera = Camera::new(&scene.view, &opts);
-        let tracer = Tracer::new(&scene, &bvh, &opts);
-        let (sample, id) = opts.sampling.pixel_sampler(camera.has_lens()).sample(5, 4, 0);
-        let one = tracer.trace_eye(&camera.ray(&sample), &id, &mut Stats::default());
+        let frame = Frame::new(&scene, scene.view(), &opts);
+        let (sample, id) = frame.sampler().sample(5, 4, 0);
+        let one = frame.sample_radiance(&sample, &id, &mut TraceContext::default(), &mut NoRecord);
         assert!((acc.image().get(5, 4) - one).length() < 1e-5);
     }
 
@@ -264,32 +243,32 @@ mod tests {
 
     #[test]
     fn a_cancelled_pass_leaves_the_accumulator_unusable() {
-        let (scene, bvh) = scene();
+        let scene = scene();
         let opts = opts(&scene, Sampling::Stratified { spp: 4 });
-        let mut acc = Accumulator::new(&opts).unwrap();
+        let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
         let stop = CancelAfter(0.into(), 0);
-        assert!(acc.pass(&scene, &bvh, 2, &stop).is_none());
-        assert!(acc.pass(&scene, &bvh, 2, &Silent).is_none());
+        assert!(acc.pass(&scene, 2, &stop).is_none());
+        assert!(acc.pass(&scene, 2, &Silent).is_none());
         assert_eq!(acc.samples_done(), 0);
         let spd = RenderOptions {
             sampling: Sampling::SpdCorners,
             ..opts
         };
-        assert!(Accumulator::new(&spd).is_none());
+        assert!(Accumulator::new(scene.view(), &spd).is_none());
     }
 
     #[test]
     fn a_preview_of_stride_one_is_the_centre_sampled_render_and_larger_strides_subsample_it() {
-        let (scene, bvh) = scene();
+        let scene = scene();
         let opts = opts(&scene, Sampling::PixelCenters);
-        let (full, _) = render(&scene, &bvh, &opts);
+        let (full, _) = render(&scene, scene.view(), &opts);
         let pinhole = RenderOptions {
             aperture: Some(0.0),
             ..opts
         };
-        let (pinhole_full, _) = render(&scene, &bvh, &pinhole);
+        let (pinhole_full, _) = render(&scene, scene.view(), &pinhole);
         let rows = Rows::default();
-        let (image, stats) = render_preview(&scene, &bvh, &opts, 1, &rows).unwrap();
+        let (image, stats) = render_preview(&scene, scene.view(), &opts, 1, &rows).unwrap();
         // With one sample per pixel the lens is sampled at its centre: the render's
         // picture exactly, and a pinhole's up to rounding (the lens ray's direction
         // goes through the focal plane).
@@ -303,7 +282,7 @@ mod tests {
         assert!(near(&image, &pinhole_full));
         assert_eq!(rows.image(12, 9), image);
         assert_eq!(stats.eye_rays, 12 * 9);
-        let (small, _) = render_preview(&scene, &bvh, &opts, 4, &Silent).unwrap();
+        let (small, _) = render_preview(&scene, scene.view(), &opts, 4, &Silent).unwrap();
         assert_eq!((small.width, small.height), (3, 3));
         assert_eq!(small.get(0, 0), image.get(2, 2));
         assert_eq!(
@@ -315,7 +294,7 @@ mod tests {
 
     #[test]
     fn render_reports_every_row_with_the_image_pixels() {
-        let (scene, bvh) = scene();
+        let scene = scene();
         for sampling in [
             Sampling::PixelCenters,
             Sampling::Stratified { spp: 2 },
@@ -323,7 +302,8 @@ mod tests {
         ] {
             let opts = opts(&scene, sampling);
             let rows = Rows::default();
-            let (image, _) = crate::render::render_observed(&scene, &bvh, &opts, &rows).unwrap();
+            let full = crate::image::Region::full(opts.width, opts.height);
+            let (image, _) = render_region(&scene, scene.view(), &opts, &full, &rows).unwrap();
             assert_eq!(rows.image(12, 9), image, "{sampling}");
         }
     }

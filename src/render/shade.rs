@@ -29,7 +29,7 @@
 //! Fresnel reflectance (see [`schlick`]), 1 under total internal reflection.
 
 use crate::math::Vec3;
-use crate::scene::{Dialect, Material, Scene};
+use crate::scene::{Dialect, Material, SceneInfo};
 
 use super::light::LightSource;
 
@@ -66,12 +66,12 @@ pub struct Lighting {
 
 impl Lighting {
     /// Resolves the scene's model and intensities (see the module docs).
-    pub fn new(scene: &Scene) -> Lighting {
+    pub fn new(scene: &SceneInfo) -> Lighting {
         if scene.dialect != Dialect::Nff {
             return Lighting {
                 model: Model::P3f,
                 ambient: Vec3::ZERO,
-                lights: LightSource::of(scene, Vec3::ONE),
+                lights: LightSource::of(&scene.lights, Vec3::ONE),
             };
         }
         let n = scene.lights.len();
@@ -83,7 +83,7 @@ impl Lighting {
         Lighting {
             model: Model::Spd,
             ambient: Vec3::splat(default),
-            lights: LightSource::of(scene, Vec3::splat(default)),
+            lights: LightSource::of(&scene.lights, Vec3::splat(default)),
         }
     }
 }
@@ -277,11 +277,11 @@ mod tests {
 
     #[test]
     fn default_intensity_is_sqrt_n_over_2n() {
-        let mut scene = Scene::default();
+        let mut scene = crate::scene::Scene::default();
         for _ in 0..4 {
             scene.lights.push(crate::scene::Light::point(Vec3::ZERO, None));
         }
-        let l = Lighting::new(&scene);
+        let l = Lighting::new(&scene.info());
         assert_eq!(l.ambient, Vec3::splat(0.25));
         assert_eq!(l.lights[3].intensity, Vec3::splat(0.25));
     }

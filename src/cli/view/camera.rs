@@ -3,7 +3,7 @@
 
 use super::protocol::{CameraMsg, OptionsMsg};
 use nffrt::math::Vec3;
-use nffrt::render::{RenderOptions, Sampling};
+use nffrt::render::RenderRequest;
 use nffrt::scene::{Dialect, View};
 
 /// The scene's view moved to `camera` (the lens, hither and angle span stay the
@@ -20,21 +20,18 @@ pub fn view_of(file: &View, camera: &CameraMsg, options: &OptionsMsg) -> View {
     }
 }
 
-/// The render options a request asks for: what `nffrt render --width --height
-/// --max-depth --spp` gives, with the lens off (`--aperture 0`) unless wanted and
+/// What the page's settings ask of a render: what `nffrt render --width --height
+/// --max-depth --spp` asks, with the lens off (`--aperture 0`) unless wanted and
 /// area lights from their centre unless soft shadows are.
-pub fn render_options(options: &OptionsMsg) -> RenderOptions {
-    RenderOptions {
-        width: options.width,
-        height: options.height,
-        max_depth: options.max_depth,
-        sampling: match options.spp {
-            0 | 1 => Sampling::PixelCenters,
-            spp => Sampling::Stratified { spp },
-        },
+pub fn request(options: &OptionsMsg) -> RenderRequest {
+    RenderRequest {
+        width: Some(options.width),
+        height: Some(options.height),
+        max_depth: Some(options.max_depth),
+        spp: Some(options.spp.max(1)),
         aperture: (!options.lens).then_some(0.0),
-        soft_shadows: options.soft_shadows,
-        ..RenderOptions::default()
+        hard_shadows: !options.soft_shadows,
+        ..RenderRequest::default()
     }
 }
 
@@ -49,6 +46,7 @@ pub fn camera_block(view: &View, dialect: Dialect) -> String {
 mod tests {
     use super::*;
     use nffrt::nff::{parse_format, Format, Limits};
+    use nffrt::render::Sampling;
 
     /// A view whose numbers need every digit.
     fn odd_view(base: View) -> View {
@@ -107,18 +105,22 @@ mod tests {
             lens: true,
             soft_shadows: true,
         };
-        let r = render_options(&o);
+        let scene = nffrt::Scene::default().info();
+        let r = request(&o).resolve(&scene).unwrap().opts;
         assert_eq!((r.width, r.height, r.max_depth), (10, 20, 3));
         assert_eq!(
             (r.sampling, r.aperture, r.soft_shadows),
             (Sampling::PixelCenters, None, true)
         );
-        let r = render_options(&OptionsMsg {
+        let r = request(&OptionsMsg {
             spp: 9,
             lens: false,
             soft_shadows: false,
             ..o
-        });
+        })
+        .resolve(&scene)
+        .unwrap()
+        .opts;
         assert_eq!(
             (r.sampling, r.aperture, r.soft_shadows),
             (Sampling::Stratified { spp: 9 }, Some(0.0), false)

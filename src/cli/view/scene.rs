@@ -17,21 +17,17 @@ use tokio::sync::broadcast;
 
 use super::protocol::Counts;
 use crate::cli::limits::SceneLimitArgs;
-use crate::cli::load::{build_bvh, load_scene_cancellable, Fingerprint};
+use crate::cli::load::{load_scene_cancellable, Need};
 use crate::cli::CliError;
-use nffrt::accel::Bvh;
-use nffrt::Scene;
+use nffrt::prepare::{prepare, RenderScene};
 
 /// How long the file must stay quiet before it is read.
 pub const SETTLE: Duration = Duration::from_millis(60);
 
 /// A loaded, built scene.
 pub struct Loaded {
-    /// What the tracer reads: view, lights, materials, background (the primitive
-    /// lists are emptied once the BVH holds them, and the warnings moved out).
-    pub scene: Scene,
-    /// The acceleration structure over the primitives.
-    pub bvh: Bvh,
+    /// The scene ready to render.
+    pub scene: RenderScene,
     /// 0 for the first load, then one more for each successful reload.
     pub version: u64,
     /// What the scene holds.
@@ -69,21 +65,17 @@ impl Source {
     /// except during the BVH build).
     pub fn load(&self, version: u64, cancel: &AtomicBool) -> Result<Loaded, CliError> {
         let t0 = Instant::now();
-        let mut loaded = load_scene_cancellable(&self.path, &self.limits, Fingerprint::None, cancel)?;
-        let scene = &mut loaded.scene;
-        let warnings = std::mem::take(&mut scene.warnings)
-            .iter()
-            .map(|w| format!("{}:{}: {}", w.line, w.column, w.message))
-            .collect();
+        let loaded = load_scene_cancellable(&self.path, &self.limits, Need::Render, cancel)?;
+        let scene = prepare(loaded.scene, &loaded.assets);
+        let info = scene.info();
+        let warnings = info.warnings.iter().map(|w| w.to_string()).collect();
         let counts = Counts {
-            primitives: scene.primitive_count(),
-            lights: scene.lights.len(),
-            materials: scene.materials.len(),
+            primitives: info.primitives,
+            lights: info.lights.len(),
+            materials: info.materials.len(),
         };
-        let bvh = build_bvh(scene);
         Ok(Loaded {
-            scene: loaded.scene,
-            bvh,
+            scene,
             version,
             counts,
             warnings,

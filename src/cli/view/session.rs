@@ -13,7 +13,7 @@ use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket};
 use tokio::sync::{broadcast, watch};
 
-use super::camera::{camera_block, render_options, view_of};
+use super::camera::{camera_block, request, view_of};
 use super::protocol::{
     encode_binary, parse_client_message, CameraMsg, ClientMessage, OptionsMsg, ServerMessage,
 };
@@ -165,12 +165,16 @@ impl Session {
             };
         };
         self.gen += 1;
-        let view = view_of(&self.loaded.scene.view, &r.camera, &r.options);
+        let view = view_of(self.loaded.scene.view(), &r.camera, &r.options);
+        let opts = match request(&r.options).resolve(self.loaded.scene.info()) {
+            Ok(resolved) => resolved.opts,
+            Err(message) => return ServerMessage::Error { message },
+        };
         self.worker.submit(Job {
             gen: self.gen,
             loaded: self.loaded.clone(),
             view,
-            opts: render_options(&r.options),
+            opts,
             start: Instant::now(),
         });
         ServerMessage::View {
@@ -178,14 +182,14 @@ impl Session {
             reason,
             camera: r.camera,
             options: r.options,
-            camera_block: camera_block(&view, self.loaded.scene.dialect),
+            camera_block: camera_block(&view, self.loaded.scene.info().dialect),
         }
     }
 
     /// A new scene: tell the page, and render it again with the page's camera, or
     /// with the file's if the edit moved it.
     fn reloaded(&mut self, loaded: Arc<Loaded>) -> Vec<Reply> {
-        let (old, new) = (self.loaded.scene.view, loaded.scene.view);
+        let (old, new) = (*self.loaded.scene.view(), *loaded.scene.view());
         self.loaded = loaded;
         if let Some(r) = self.request.as_mut() {
             if (old.from, old.at, old.up, old.angle) != (new.from, new.at, new.up, new.angle) {
@@ -205,11 +209,12 @@ impl Session {
     /// The scene as the page first sees it.
     fn scene_message(&self) -> ServerMessage {
         let l = &self.loaded;
-        let view = &l.scene.view;
-        let spp = self.app.spp.or(l.scene.spp.filter(|&n| n > 0)).unwrap_or(16);
+        let info = l.scene.info();
+        let view = &info.view;
+        let spp = self.app.spp.or(info.spp.filter(|&n| n > 0)).unwrap_or(16);
         ServerMessage::Scene {
             name: self.app.name.clone(),
-            dialect: match l.scene.dialect {
+            dialect: match info.dialect {
                 Dialect::Nff => "nff",
                 Dialect::P3f2019 => "p3f2019",
                 Dialect::P3f2025 => "p3f2025",
@@ -227,7 +232,7 @@ impl Session {
                 soft_shadows: true,
             },
             has_lens: view.aperture > 0.0,
-            has_area_lights: l.scene.lights.iter().any(|l| l.area.is_some()),
+            has_area_lights: info.area_lights() > 0,
             load_s: l.load_s,
         }
     }
@@ -248,11 +253,13 @@ impl Session {
         }
         let (loaded, gen) = (self.loaded.clone(), self.gen);
         self.tracing = Some(tokio::task::spawn_blocking(move || {
-            let scene = nffrt::Scene {
-                view: view_of(&loaded.scene.view, &r.camera, &r.options),
-                ..loaded.scene.clone()
+            let scene = &loaded.scene;
+            let view = view_of(scene.view(), &r.camera, &r.options);
+            let opts = match request(&r.options).resolve(scene.info()) {
+                Ok(resolved) => resolved.opts,
+                Err(message) => return ServerMessage::Error { message },
             };
-            let trace = trace_pixel(&scene, &loaded.bvh, &render_options(&r.options), x, y);
+            let trace = trace_pixel(scene, &view, &opts, x, y);
             let Ok(trace) = serde_json::to_value(&trace) else {
                 return ServerMessage::Error {
                     message: "the ray tree could not be written".into(),
@@ -269,8 +276,8 @@ impl Session {
             ServerMessage::RayTree {
                 gen,
                 camera: r.camera,
-                angle_spans_edges: scene.view.angle_span == AngleSpan::ImageEdges,
-                kinds: kinds(scene.dialect),
+                angle_spans_edges: view.angle_span == AngleSpan::ImageEdges,
+                kinds: kinds(scene.info().dialect),
                 trace,
             }
         }));

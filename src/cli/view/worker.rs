@@ -196,11 +196,7 @@ fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool,
 
 /// Renders one generation until it converges or a newer one cancels it.
 fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>, shown: &Shown) {
-    let scene = nffrt::Scene {
-        view: job.view,
-        ..job.loaded.scene.clone()
-    };
-    let bvh = &job.loaded.bvh;
+    let scene = &job.loaded.scene;
     let opts = &job.opts;
     let rays = AtomicU64::new(0);
     let mut watch = Watch {
@@ -215,7 +211,7 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
     let mut display = vec![0u8; 3 * w * h];
     let mut stride = first_stride(opts.width, opts.height);
     while stride > 1 {
-        let Some((image, _)) = render_preview(&scene, bvh, opts, stride, &watch) else {
+        let Some((image, _)) = render_preview(scene, &job.view, opts, stride, &watch) else {
             return;
         };
         let rgb = image.to_rgb8();
@@ -223,7 +219,7 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         upscale(&rgb, image.width as usize, stride as usize, w, &mut display);
         stride /= 2;
     }
-    let Some(mut acc) = Accumulator::new(opts) else {
+    let Some(mut acc) = Accumulator::new(&job.view, opts) else {
         return;
     };
     let display = Mutex::new((display, Instant::now()));
@@ -231,7 +227,7 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         watch.display = Some(&display);
         watch.samples = acc.samples_done();
         let count = acc.samples_done().max(1);
-        if acc.pass(&scene, bvh, count, &watch).is_none() {
+        if acc.pass(scene, count, &watch).is_none() {
             return;
         }
         let image = Arc::new(acc.image());

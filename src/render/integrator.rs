@@ -1,0 +1,198 @@
+//! The integrator seam: what the row loop asks of a light-transport method, and
+//! what a method tells an observer of one pixel.
+//!
+//! An [`Integrator`] answers one question: the radiance arriving at the camera along
+//! an eye ray of one sample, given the ray's closest hit (which the row loop finds
+//! for a packet of eye rays at once). Whitted ray tracing ([`super::whitted`], with
+//! the SPD's or the P3F course's shading rules) is one implementation;
+//! [`ChosenIntegrator`] is the one a render uses, chosen once from the scene and the
+//! options.
+//!
+//! A method reports what it does to a [`Recorder`]. Renders pass [`NoRecord`], whose
+//! `ENABLED = false` turns every report into dead code, so the hot path pays nothing;
+//! `--pixel` passes a recorder that keeps the ray tree (`render::debug`). One code
+//! path thus both renders and explains a pixel.
+
+use std::cell::Cell;
+
+use super::light::LightSampling;
+use super::shade::{Branch, Model, P3fRules, SpdRules};
+use super::stats::Stats;
+use super::whitted::Whitted;
+use super::RenderOptions;
+use crate::accel::NO_HINT;
+use crate::geometry::{Hit, Primitive};
+use crate::image::skybox::SkyTexel;
+use crate::math::{Ray, Vec3};
+use crate::prepare::RenderScene;
+
+use super::sampling::SampleId;
+
+/// A light-transport method (see the module docs).
+pub trait Integrator: Sync {
+    /// The radiance arriving along eye ray `ray` of sample `id`, whose closest hit is
+    /// `found` (the primitive's index as the scene's acceleration structure reports
+    /// it), reported to `rec`. NaN and infinity are the caller's to catch.
+    fn eye_radiance<R: Recorder>(
+        &self,
+        ray: &Ray,
+        found: Option<(Hit, u32)>,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3;
+}
+
+/// The integrator of one render: chosen once from the scene's shading rules and the
+/// render's options, then asked per eye ray (one predictable branch).
+pub enum ChosenIntegrator<'a> {
+    /// Whitted ray tracing under the SPD's rules (NFF scenes).
+    WhittedSpd(Whitted<'a, SpdRules>),
+    /// Whitted ray tracing under the P3F course's rules.
+    WhittedP3f(Whitted<'a, P3fRules>),
+}
+
+impl<'a> ChosenIntegrator<'a> {
+    /// The integrator for rendering `scene` with `opts`.
+    pub fn new(scene: &'a RenderScene, opts: &RenderOptions) -> Self {
+        let sampling = LightSampling {
+            grid_override: opts.light_samples,
+            soft_shadows: opts.soft_shadows,
+        };
+        match scene.lighting().model {
+            Model::Spd => ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth)),
+            Model::P3f => ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth)),
+        }
+    }
+}
+
+impl Integrator for ChosenIntegrator<'_> {
+    #[inline]
+    fn eye_radiance<R: Recorder>(
+        &self,
+        ray: &Ray,
+        found: Option<(Hit, u32)>,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        match self {
+            ChosenIntegrator::WhittedSpd(w) => w.eye_radiance(ray, found, id, ctx, rec),
+            ChosenIntegrator::WhittedP3f(w) => w.eye_radiance(ray, found, id, ctx, rec),
+        }
+    }
+}
+
+/// Lights and ray-tree depths with a shadow-cache slot; shadow rays of other lights
+/// or deeper bounces simply go without one.
+pub const HINT_LIGHTS: usize = 8;
+/// See [`HINT_LIGHTS`].
+pub const HINT_DEPTHS: usize = 8;
+
+/// What one unit of work (a row of a render) carries from ray to ray: its ray counts
+/// and its shadow cache. A fresh context per row keeps each row's work the same
+/// whichever thread runs it.
+pub struct TraceContext {
+    /// Ray counts.
+    pub stats: Stats,
+    /// Shadow cache (Haines): per light and depth, the primitive or leaf block of four
+    /// that last blocked a shadow ray (`Bvh::occluded_hinted`). It only changes what
+    /// is tested first, never an answer.
+    hints: [Cell<u32>; HINT_LIGHTS * HINT_DEPTHS],
+}
+
+impl Default for TraceContext {
+    fn default() -> Self {
+        TraceContext {
+            stats: Stats::default(),
+            hints: [const { Cell::new(NO_HINT) }; HINT_LIGHTS * HINT_DEPTHS],
+        }
+    }
+}
+
+impl TraceContext {
+    /// The shadow-cache slot of light `light` at ray-tree depth `depth` (from 1), if
+    /// it has one.
+    #[inline(always)]
+    pub fn hint(&self, light: usize, depth: u32) -> Option<&Cell<u32>> {
+        let depth = depth as usize;
+        (light < HINT_LIGHTS && (1..=HINT_DEPTHS).contains(&depth))
+            .then(|| &self.hints[light * HINT_DEPTHS + depth - 1])
+    }
+}
+
+/// A hit as reported to a [`Recorder`].
+#[derive(Clone, Copy, Debug)]
+pub struct HitRecord<'a> {
+    /// Ray-tree depth of the ray (the eye ray is 1).
+    pub depth: u32,
+    /// The primitive hit (with its source kind and line).
+    pub primitive: &'a Primitive,
+    /// Distance along the (unit-direction) ray.
+    pub t: f32,
+    /// The hit point.
+    pub point: Vec3,
+    /// The geometric normal turned to face the ray.
+    pub normal: Vec3,
+    /// The shading normal turned to face the ray.
+    pub shading_normal: Vec3,
+    /// True if the ray crosses the surface against the primitive's own normal.
+    pub entering: bool,
+    /// The ambient term `A * Kd * C`.
+    pub ambient: Vec3,
+}
+
+/// What became of one point of a light at a hit (the whole of a point light).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub enum LightOutcome {
+    /// The point is behind the surface: no shadow ray (SPD rule).
+    Behind,
+    /// A shadow ray found an object between the hit and the point.
+    Shadowed,
+    /// The point's diffuse + specular contribution.
+    Lit(Vec3),
+}
+
+/// What became of an area light at a hit: its points' outcomes summed up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct AreaOutcome {
+    /// Points sampled.
+    pub samples: u32,
+    /// Of those, points behind the surface (no shadow ray).
+    pub behind: u32,
+    /// Of those, points whose shadow ray was blocked.
+    pub shadowed: u32,
+    /// The light's total contribution.
+    pub contribution: Vec3,
+}
+
+/// Receives the events of an integrator, depth first: for each ray either `miss`,
+/// or `hit`, one `light` per light, then for each secondary ray `branch` followed by
+/// that ray's own events, and finally `done` with the hit's colour.
+pub trait Recorder {
+    /// False for a recorder that ignores everything: the integrator then skips
+    /// building the reports altogether.
+    const ENABLED: bool = true;
+    /// The ray left the scene and sees `background`, from skybox texel `texel` if
+    /// the background is a skybox.
+    fn miss(&mut self, _ray: &Ray, _background: Vec3, _texel: Option<SkyTexel>) {}
+    /// The ray hit a surface.
+    fn hit(&mut self, _ray: &Ray, _hit: &HitRecord) {}
+    /// Point light `index` (in file order) at the current hit.
+    fn light(&mut self, _index: usize, _outcome: LightOutcome) {}
+    /// One point of area light `index` at the current hit, with that point's share.
+    fn light_sample(&mut self, _index: usize, _point: Vec3, _outcome: LightOutcome) {}
+    /// Area light `index` at the current hit, after its points.
+    fn area_light(&mut self, _index: usize, _outcome: AreaOutcome) {}
+    /// A secondary ray with this weight is about to be traced.
+    fn branch(&mut self, _kind: Branch, _weight: Vec3) {}
+    /// The current hit's final colour.
+    fn done(&mut self, _color: Vec3) {}
+}
+
+/// The recorder of ordinary renders: records nothing, costs nothing.
+pub struct NoRecord;
+
+impl Recorder for NoRecord {
+    const ENABLED: bool = false;
+}

@@ -1,0 +1,273 @@
+//! What a caller asks of a render, resolved against a scene into [`RenderOptions`].
+//! The command line's flags, the viewer's settings and the Python bindings'
+//! arguments all become a [`RenderRequest`], so the scene's defaults, the policies
+//! (which sampling, what an effect that needs samples gets) and the checks are
+//! written once, here.
+
+use super::{check_settings, RenderOptions, Sampling};
+use crate::limits::{DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
+use crate::scene::SceneInfo;
+
+/// What a caller asks of a render; `None` leaves a setting to the scene or the
+/// default.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderRequest {
+    /// Image width (the other side follows the scene's aspect ratio when alone).
+    pub width: Option<u32>,
+    /// Image height.
+    pub height: Option<u32>,
+    /// Samples per pixel (default: the file's `spp`, else 1).
+    pub spp: Option<u32>,
+    /// The SPD benchmark protocol: rays through the pixel corners (not with `spp`).
+    pub spd: bool,
+    /// Maximum ray-tree depth (default [`DEFAULT_MAX_DEPTH`]).
+    pub max_depth: Option<u32>,
+    /// Lens diameter in pixels of the view plane, replacing the scene's.
+    pub aperture: Option<f32>,
+    /// Focal distance as a multiple of `|from - at|`, replacing the scene's.
+    pub focal: Option<f32>,
+    /// Points per side of the grid every hit samples on each area light.
+    pub light_samples: Option<u32>,
+    /// Each area light shines from its centre alone (the viewer's toggle).
+    pub hard_shadows: bool,
+}
+
+/// A request resolved: the options, and what the caller should be told about how
+/// they were chosen (one sentence each, for standard error or a status line).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resolved {
+    /// The render's options.
+    pub opts: RenderOptions,
+    /// Notes on defaults chosen for the caller.
+    pub notes: Vec<String>,
+}
+
+impl RenderRequest {
+    /// The options of this request on `scene`, or why it cannot be rendered (a
+    /// sentence naming the setting and its range).
+    pub fn resolve(&self, scene: &SceneInfo) -> Result<Resolved, String> {
+        let view = &scene.view;
+        let (width, height) = image_size(self.width, self.height, view.width, view.height)?;
+        let mut notes = Vec::new();
+        let opts = RenderOptions {
+            width,
+            height,
+            max_depth: self.max_depth.unwrap_or(DEFAULT_MAX_DEPTH),
+            sampling: self.sampling(scene, &mut notes)?,
+            aperture: self.aperture,
+            focal: self.focal,
+            light_samples: self.light_samples,
+            soft_shadows: !self.hard_shadows,
+        };
+        check_settings(&opts)?;
+        Ok(Resolved { opts, notes })
+    }
+
+    /// The sampling: the SPD's corners, or `spp` from the request, else from the
+    /// file; one sample through each pixel centre when neither says more.
+    fn sampling(&self, scene: &SceneInfo, _notes: &mut Vec<String>) -> Result<Sampling, String> {
+        if self.spd {
+            if self.spp.is_some() {
+                return Err("the SPD protocol has its own sampling: it cannot be combined with spp".into());
+            }
+            return Ok(Sampling::SpdCorners);
+        }
+        if self.spp == Some(0) {
+            return Err("0 samples per pixel: at least 1".into());
+        }
+        let spp = self.spp.or(scene.spp).unwrap_or(1);
+        Ok(match spp {
+            0 | 1 => Sampling::PixelCenters,
+            spp => Sampling::Stratified { spp },
+        })
+    }
+}
+
+/// The image size of a render asked for with `width` and/or `height` of a scene
+/// whose file says `scene_w` x `scene_h`: the file's size, or both sides as given,
+/// or one side given and the other following the file's aspect ratio (rounded to
+/// the nearest pixel). Each side must come out between 1 and [`MAX_RESOLUTION`]: a
+/// side that follows the aspect ratio past it is an error saying so, never capped
+/// (a capped side would change the picture's shape).
+pub fn image_size(
+    width: Option<u32>,
+    height: Option<u32>,
+    scene_w: u32,
+    scene_h: u32,
+) -> Result<(u32, u32), String> {
+    let check = |name: &str, n: u32| {
+        if (1..=MAX_RESOLUTION).contains(&n) {
+            Ok(n)
+        } else {
+            Err(format!("{name} {n} is not between 1 and {MAX_RESOLUTION}"))
+        }
+    };
+    // `given` pixels along a side of `side` scene pixels: the other side, `other` long.
+    let follow = |given: u32, side: u32, other: u32, name: &str, given_name: &str| {
+        let (g, s, o) = (given as u64, side.max(1) as u64, other as u64);
+        let n = ((g * o + s / 2) / s).max(1);
+        if n > MAX_RESOLUTION as u64 {
+            return Err(format!(
+                "{given_name} {given} with the scene's aspect ratio ({scene_w}x{scene_h}) makes the {name} {n}, \
+                 more than {MAX_RESOLUTION}: give both width and height"
+            ));
+        }
+        Ok(n as u32)
+    };
+    match (width, height) {
+        (Some(w), Some(h)) => Ok((check("width", w)?, check("height", h)?)),
+        (Some(w), None) => {
+            let w = check("width", w)?;
+            Ok((w, follow(w, scene_w, scene_h, "height", "width")?))
+        }
+        (None, Some(h)) => {
+            let h = check("height", h)?;
+            Ok((follow(h, scene_h, scene_w, "width", "height")?, h))
+        }
+        (None, None) => Ok((scene_w, scene_h)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn scene(text: &str, p3f: bool) -> SceneInfo {
+        let format = if p3f {
+            crate::nff::Format::P3f
+        } else {
+            crate::nff::Format::Nff
+        };
+        let s: Scene = crate::nff::parse_format(text.as_bytes(), format, &Default::default()).unwrap();
+        s.info()
+    }
+
+    const NFF: &str = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 640 480\ns 0 0 0 1\n";
+    #[test]
+    fn one_side_given_keeps_the_aspect_ratio() {
+        assert_eq!(image_size(None, None, 640, 480), Ok((640, 480)));
+        assert_eq!(image_size(Some(320), None, 640, 480), Ok((320, 240)));
+        assert_eq!(image_size(None, Some(100), 640, 480), Ok((133, 100))); // 133.3
+        assert_eq!(image_size(Some(5), None, 23, 17), Ok((5, 4))); // 3.7
+        assert_eq!(image_size(Some(7), Some(9), 640, 480), Ok((7, 9)));
+        assert_eq!(image_size(Some(1), None, 32768, 1), Ok((1, 1))); // never 0
+        assert_eq!(image_size(None, Some(32768), 1, 2), Ok((16384, 32768)));
+    }
+
+    #[test]
+    fn a_side_past_the_limit_is_an_error_that_says_where_it_came_from() {
+        let e = image_size(Some(100_000), None, 512, 512).unwrap_err();
+        assert_eq!(e, "width 100000 is not between 1 and 32768");
+        // Within the limit itself, but the aspect ratio makes the height 65536.
+        let e = image_size(Some(32768), None, 1, 2).unwrap_err();
+        assert!(
+            e.contains("makes the height 65536") && e.contains("give both"),
+            "{e}"
+        );
+        assert!(image_size(Some(0), Some(5), 1, 1).is_err());
+    }
+
+    #[test]
+    fn sampling_follows_the_request_then_the_file() {
+        let s = scene(NFF, false);
+        let opts = |r: RenderRequest| r.resolve(&s).unwrap().opts.sampling;
+        assert_eq!(opts(RenderRequest::default()), Sampling::PixelCenters);
+        let four = RenderRequest {
+            spp: Some(4),
+            ..Default::default()
+        };
+        assert_eq!(opts(four), Sampling::Stratified { spp: 4 });
+        let spd = RenderRequest {
+            spd: true,
+            ..Default::default()
+        };
+        assert_eq!(opts(spd), Sampling::SpdCorners);
+        assert!(RenderRequest { spp: Some(2), ..spd }.resolve(&s).is_err());
+        let p3f = scene(
+            "spp 9\ncamera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\ns 0 0 0 1\n",
+            true,
+        );
+        assert_eq!(
+            RenderRequest::default().resolve(&p3f).unwrap().opts.sampling,
+            Sampling::Stratified { spp: 9 }
+        );
+        assert_eq!(
+            four.resolve(&p3f).unwrap().opts.sampling,
+            Sampling::Stratified { spp: 4 }
+        );
+    }
+
+    #[test]
+    fn bad_values_are_errors_naming_the_setting() {
+        let s = scene(NFF, false);
+        for (r, want) in [
+            (
+                RenderRequest {
+                    max_depth: Some(0),
+                    ..Default::default()
+                },
+                "max depth 0",
+            ),
+            (
+                RenderRequest {
+                    max_depth: Some(65),
+                    ..Default::default()
+                },
+                "max depth 65",
+            ),
+            (
+                RenderRequest {
+                    spp: Some(0),
+                    ..Default::default()
+                },
+                "0 samples per pixel",
+            ),
+            (
+                RenderRequest {
+                    spp: Some(4097),
+                    ..Default::default()
+                },
+                "4097 samples",
+            ),
+            (
+                RenderRequest {
+                    aperture: Some(-3.0),
+                    ..Default::default()
+                },
+                "aperture -3",
+            ),
+            (
+                RenderRequest {
+                    aperture: Some(f32::NAN),
+                    ..Default::default()
+                },
+                "aperture NaN",
+            ),
+            (
+                RenderRequest {
+                    focal: Some(0.0),
+                    ..Default::default()
+                },
+                "focal distance 0",
+            ),
+            (
+                RenderRequest {
+                    light_samples: Some(0),
+                    ..Default::default()
+                },
+                "0 light samples",
+            ),
+            (
+                RenderRequest {
+                    width: Some(0),
+                    ..Default::default()
+                },
+                "width 0",
+            ),
+        ] {
+            let e = r.resolve(&s).unwrap_err();
+            assert!(e.contains(want), "{e:?} lacks {want:?}");
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! The one sample loop. Every picture nffrt makes — a full render, a tile, a
+//! progressive pass of the viewer, a preview, a Python call — is rows of pixels,
+//! each adding a range of its samples into its sums through [`Frame::add_samples`]:
+//! sample `k` of every pixel of the row is taken together, its eye rays made in
+//! blocks by the camera and traced through the acceleration structure in packets,
+//! then handed to the integrator. So the viewer renders as fast per sample as
+//! `nffrt render`, and the two cannot drift apart.
+//!
+//! Rows run in parallel ([`each_row`]), each a task of its own with a fresh
+//! [`TraceContext`]; everything a sample draws is hashed from absolute pixel
+//! coordinates, so images are the same whatever the thread count or the tiling.
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use super::camera::{Camera, CameraSample};
+use super::integrator::{ChosenIntegrator, Integrator, NoRecord, Recorder, TraceContext};
+use super::sampling::{PixelSampler, SampleId};
+use super::{Observer, RenderOptions, Stats};
+use crate::accel::PACKET;
+use crate::math::{Ray, Vec3};
+use crate::prepare::RenderScene;
+use crate::scene::View;
+
+/// What every row of one picture shares: the scene, the camera, the samples'
+/// pattern and the integrator.
+pub struct Frame<'a> {
+    scene: &'a RenderScene,
+    camera: Camera,
+    sampler: PixelSampler,
+    integrator: ChosenIntegrator<'a>,
+}
+
+impl<'a> Frame<'a> {
+    /// The frame of a render of `scene` seen by `view` with `opts`.
+    pub fn new(scene: &'a RenderScene, view: &View, opts: &RenderOptions) -> Self {
+        let camera = Camera::new(view, opts);
+        // One centred sample per pixel goes through the centre of the lens.
+        let lens = camera.has_lens() && opts.sampling != super::Sampling::PixelCenters;
+        Frame {
+            sampler: opts.sampling.pixel_sampler(lens),
+            camera,
+            scene,
+            integrator: ChosenIntegrator::new(scene, opts),
+        }
+    }
+
+    /// The same frame with the centre sample of each pixel through the centre of the
+    /// lens (a preview).
+    pub fn centres(mut self) -> Self {
+        self.sampler = super::Sampling::PixelCenters.pixel_sampler(false);
+        self
+    }
+
+    /// The camera.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The pattern of each pixel's samples.
+    pub fn sampler(&self) -> &PixelSampler {
+        &self.sampler
+    }
+
+    /// The integrator.
+    pub fn integrator(&self) -> &ChosenIntegrator<'a> {
+        &self.integrator
+    }
+
+    /// Adds samples `samples` of the pixels at columns `xs` of row `y`, each times
+    /// `weight`, to `sums` (one per column), sample by sample in order: the very
+    /// products, in the very order, whatever the split of the samples into calls.
+    pub fn add_samples(
+        &self,
+        y: u32,
+        xs: &[u32],
+        samples: Range<u32>,
+        weight: f32,
+        sums: &mut [Vec3],
+        ctx: &mut TraceContext,
+    ) {
+        debug_assert_eq!(xs.len(), sums.len());
+        let pixels: Vec<_> = xs.iter().map(|&x| self.sampler.pixel(x, y)).collect();
+        let (mut cams, mut ids) = (Vec::with_capacity(xs.len()), Vec::with_capacity(xs.len()));
+        let mut rays = Vec::with_capacity(xs.len());
+        for k in samples {
+            cams.clear();
+            ids.clear();
+            for pixel in &pixels {
+                let (sample, id) = self.sampler.sample_of(pixel, k);
+                cams.push(sample);
+                ids.push(id);
+            }
+            self.camera.rays(&cams, &mut rays);
+            self.trace_eyes(&rays, &ids, ctx, |i, c| sums[i] += c * weight);
+        }
+    }
+
+    /// The values of the pinhole rays through the raster points `(x, y)`, `x` in
+    /// `xs`, for the SPD protocol's pixel corners (single samples, no jitter), into
+    /// `out`.
+    pub fn corners(&self, y: u32, xs: &[u32], out: &mut Vec<Vec3>, ctx: &mut TraceContext) {
+        let rays: Vec<Ray> = xs
+            .iter()
+            .map(|&x| self.camera.ray_at(x as f32, y as f32))
+            .collect();
+        let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
+        self.trace_eyes(&rays, &ids, ctx, |_, c| out.push(c));
+    }
+
+    /// Eye rays `rays[i]` of samples `ids[i]`, [`PACKET`] neighbours traced through
+    /// the acceleration structure together (packets find the very hits single rays
+    /// find), each then given to the integrator; calls `done(i, radiance)` in order,
+    /// a NaN or infinite radiance as black.
+    fn trace_eyes(
+        &self,
+        rays: &[Ray],
+        ids: &[SampleId],
+        ctx: &mut TraceContext,
+        mut done: impl FnMut(usize, Vec3),
+    ) {
+        debug_assert_eq!(rays.len(), ids.len());
+        let mut hits = [None; PACKET];
+        for (c, (packet, ids)) in rays.chunks(PACKET).zip(ids.chunks(PACKET)).enumerate() {
+            let hits = &mut hits[..packet.len()];
+            self.scene.accel().closest_hit_packet(packet, f32::INFINITY, hits);
+            for (i, ((ray, &found), id)) in packet.iter().zip(hits.iter()).zip(ids).enumerate() {
+                ctx.stats.eye_rays += 1;
+                let radiance = self.integrator.eye_radiance(ray, found, id, ctx, &mut NoRecord);
+                done(c * PACKET + i, finite_or_black(radiance));
+            }
+        }
+    }
+
+    /// The radiance of one eye sample, reported to `rec` (`--pixel`): the ray of
+    /// `sample` traced alone, as [`Frame::add_samples`] traces it in a packet.
+    pub fn sample_radiance<R: Recorder>(
+        &self,
+        sample: &CameraSample,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        self.ray_radiance(&self.camera.ray(sample), id, ctx, rec)
+    }
+
+    /// The radiance along `ray` traced as the eye ray of sample `id`, reported to
+    /// `rec`.
+    pub fn ray_radiance<R: Recorder>(
+        &self,
+        ray: &Ray,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        ctx.stats.eye_rays += 1;
+        let found = self.scene.accel().closest_hit(ray, f32::INFINITY);
+        finite_or_black(self.integrator.eye_radiance(ray, found, id, ctx, rec))
+    }
+}
+
+/// An eye ray's colour for the image: a NaN or infinity never reaches it (black).
+#[inline]
+fn finite_or_black(c: Vec3) -> Vec3 {
+    if c.is_finite() {
+        c
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Runs `row(j, place, ctx)` on each row `j` of `pixels` (rows of `cols`) in
+/// parallel, each writing its row in place with a fresh [`TraceContext`]; reports
+/// each row's rays to the observer and sums the counts. `None` once the observer
+/// cancels (rows not started then are left as they were).
+///
+/// Every row is a task of its own that an idle thread can steal: rayon's default
+/// splitting stops once each thread holds a few long runs of rows, and where rows
+/// differ much in cost (mount: sky above, glass spheres and terrain below) one thread
+/// then worked alone through the end of the image, a third of the render.
+pub fn each_row(
+    pixels: &mut [Vec3],
+    cols: usize,
+    observer: &dyn Observer,
+    row: impl Fn(u32, &mut [Vec3], &mut TraceContext) + Sync,
+) -> Option<Stats> {
+    let per_row: Option<Vec<Stats>> = pixels
+        .par_chunks_mut(cols)
+        .enumerate()
+        .with_max_len(1)
+        .map(|(j, place)| {
+            if observer.cancelled() {
+                return None;
+            }
+            let mut ctx = TraceContext::default();
+            row(j as u32, place, &mut ctx);
+            observer.row_done(ctx.stats.total_rays());
+            Some(ctx.stats)
+        })
+        .collect();
+    let mut stats = Stats::default();
+    for s in per_row? {
+        stats += s;
+    }
+    Some(stats)
+}

@@ -1,0 +1,256 @@
+//! Whitted ray tracing: at each hit the local term of every light (shadow rays to
+//! each point of the light), then a mirror and a refracted ray as the shading rules
+//! say ([`Rules`]: the SPD's for NFF scenes, the P3F course's), down to the
+//! render's maximum depth.
+
+use std::marker::PhantomData;
+
+use super::integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, Recorder, TraceContext};
+use super::light::{LightSampling, LightSource};
+use super::sampling::SampleId;
+use super::shade::{local, reflect, Branch, Rules};
+use crate::geometry::{point_error, Hit};
+use crate::math::{Ray, Vec3};
+use crate::prepare::RenderScene;
+use crate::scene::Material;
+
+/// Whitted ray tracing of one scene under the rules `M`.
+pub struct Whitted<'a, M: Rules> {
+    scene: &'a RenderScene,
+    light_sampling: LightSampling,
+    max_depth: u32,
+    rules: PhantomData<fn() -> M>,
+}
+
+impl<M: Rules> Integrator for Whitted<'_, M> {
+    #[inline]
+    fn eye_radiance<R: Recorder>(
+        &self,
+        ray: &Ray,
+        found: Option<(Hit, u32)>,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        self.shade(ray, 1, found, id, ctx, rec)
+    }
+}
+
+impl<'a, M: Rules> Whitted<'a, M> {
+    /// Traces `scene` with area lights sampled as `light_sampling` says, down to
+    /// ray-tree depth `max_depth`.
+    pub fn new(scene: &'a RenderScene, light_sampling: LightSampling, max_depth: u32) -> Self {
+        Whitted {
+            scene,
+            light_sampling,
+            max_depth,
+            rules: PhantomData,
+        }
+    }
+
+    /// The colour seen along `ray` at ray-tree depth `depth`.
+    fn trace<R: Recorder>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        let found = self.scene.accel().closest_hit(ray, f32::INFINITY);
+        self.shade(ray, depth, found, id, ctx, rec)
+    }
+
+    /// The colour seen along `ray` (at ray-tree depth `depth`) given its closest hit.
+    fn shade<R: Recorder>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        found: Option<(Hit, u32)>,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        let scene = self.scene;
+        let Some((hit, index)) = found else {
+            if R::ENABLED {
+                let (color, texel) = scene.background().look(ray.dir);
+                rec.miss(ray, color, texel);
+                return color;
+            }
+            return scene.background().color(ray.dir);
+        };
+        if depth == 1 {
+            ctx.stats.eye_hits += 1;
+        } else {
+            ctx.stats.secondary_hits += 1;
+        }
+        let prim = scene.primitive(index);
+        let surface = prim.surface(ray, &hit, scene.accel().data());
+        let m = &scene.materials()[prim.material as usize];
+        let p = surface.point;
+        // Turn the normals to face the incoming ray; `entering` says whether the ray
+        // crosses the surface against the primitive's own normal (into the object).
+        let entering = surface.normal.dot(ray.dir) < 0.0;
+        let (n, ns) = if entering {
+            (surface.normal, surface.shading_normal)
+        } else {
+            (-surface.normal, -surface.shading_normal)
+        };
+        // Secondary rays start off the surface by the point's error bound, on the
+        // ray's side (shadow and mirror rays) or the far side (refracted rays).
+        let offset = prim.origin_offset(&surface, point_error(p, ray, hit.t));
+        let above = if entering { p + offset } else { p - offset };
+        let diffuse = m.color * m.kd;
+        let lighting = scene.lighting();
+        let mut color = lighting.ambient.mul_elem(diffuse);
+        if R::ENABLED {
+            let record = HitRecord {
+                depth,
+                primitive: prim,
+                t: hit.t,
+                point: p,
+                normal: n,
+                shading_normal: ns,
+                entering,
+                ambient: color,
+            };
+            rec.hit(ray, &record);
+        }
+        // Made where each light uses it: kept live across the loop it ties up registers.
+        let at = || Lit {
+            m,
+            diffuse,
+            above,
+            n,
+            ns,
+            view: -ray.dir,
+            depth,
+        };
+        for (k, light) in lighting.lights.iter().enumerate() {
+            if light.area.is_some() {
+                color += self.area_light(k, light, &at(), id, ctx, rec);
+                continue;
+            }
+            let outcome = self.light_point(k, light.position, light.intensity, at(), ctx);
+            if R::ENABLED {
+                rec.light(k, outcome);
+            }
+            if let LightOutcome::Lit(c) = outcome {
+                color += c;
+            }
+        }
+
+        if depth >= self.max_depth {
+            if R::ENABLED {
+                rec.done(color);
+            }
+            return color;
+        }
+        let secondary = M::secondary(m, ray.dir, n, entering);
+        if let Some((dir, weight)) = secondary.refraction {
+            ctx.stats.refraction_rays += 1;
+            if R::ENABLED {
+                rec.branch(Branch::Refraction, weight);
+            }
+            let below = if entering { p - offset } else { p + offset };
+            color += self
+                .trace(&Ray::new(below, dir), depth + 1, id, ctx, rec)
+                .mul_elem(weight);
+        }
+        if let Some((kind, weight)) = secondary.reflection {
+            ctx.stats.reflection_rays += 1;
+            let r = Ray::new(above, reflect(ray.dir, n));
+            if R::ENABLED {
+                rec.branch(kind, weight);
+            }
+            color += self.trace(&r, depth + 1, id, ctx, rec).mul_elem(weight);
+        }
+        if R::ENABLED {
+            rec.done(color);
+        }
+        color
+    }
+
+    /// The contribution of area light `k` at a hit: its points' shadow rays and
+    /// local terms, each point with its share of the intensity.
+    fn area_light<R: Recorder>(
+        &self,
+        k: usize,
+        light: &LightSource,
+        at: &Lit,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        let share = light.intensity * (1.0 / light.point_count(&self.light_sampling, id) as f32);
+        let mut area = AreaOutcome::default();
+        let count = light.sample_points(&self.light_sampling, id, k, at.depth, |point| {
+            let outcome = self.light_point(k, point, share, *at, ctx);
+            match outcome {
+                LightOutcome::Behind => area.behind += 1,
+                LightOutcome::Shadowed => area.shadowed += 1,
+                LightOutcome::Lit(c) => area.contribution += c,
+            }
+            if R::ENABLED {
+                rec.light_sample(k, point, outcome);
+            }
+        });
+        if R::ENABLED {
+            area.samples = count;
+            rec.area_light(k, area);
+        }
+        area.contribution
+    }
+
+    /// One point of light `k`, of the given intensity, seen from a hit: behind the
+    /// surface (no shadow ray), shadowed, or its local term.
+    #[inline(always)]
+    fn light_point(
+        &self,
+        k: usize,
+        point: Vec3,
+        intensity: Vec3,
+        at: Lit,
+        ctx: &mut TraceContext,
+    ) -> LightOutcome {
+        let to_light = point - at.above;
+        if at.n.dot(to_light) <= 0.0 {
+            return LightOutcome::Behind;
+        }
+        ctx.stats.shadow_rays += 1;
+        // Aimed at the light unnormalized, blockers sought below t = 1: the ray's
+        // reciprocal direction then no longer waits on a square root and a division
+        // (the longest chain in setting up a shadow ray); the intersection tests do
+        // not need unit directions.
+        let shadow_ray = Ray::new(at.above, to_light);
+        let accel = self.scene.accel();
+        let blocked = match ctx.hint(k, at.depth) {
+            Some(hint) => accel.occluded_hinted(&shadow_ray, 1.0, hint),
+            None => accel.occluded(&shadow_ray, 1.0),
+        };
+        if blocked {
+            ctx.stats.shadow_blocked += 1;
+            return LightOutcome::Shadowed;
+        }
+        let l = to_light / to_light.length();
+        LightOutcome::Lit(intensity.mul_elem(local(at.m, at.diffuse, at.ns, l, at.view)))
+    }
+}
+
+/// What the lights see of one hit.
+#[derive(Clone, Copy)]
+struct Lit<'m> {
+    m: &'m Material,
+    /// `Kd * C`.
+    diffuse: Vec3,
+    /// The shadow rays' origin, off the surface on the ray's side.
+    above: Vec3,
+    /// Geometric normal facing the ray.
+    n: Vec3,
+    /// Shading normal facing the ray.
+    ns: Vec3,
+    /// Towards the ray's origin.
+    view: Vec3,
+    depth: u32,
+}
