@@ -43,6 +43,10 @@ pub const MAX_THREADS: u32 = 1024;
 
 /// The default maximum ray-tree depth (the SPD's).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
+/// Samples per pixel of a render whose camera or scene has an effect that one
+/// centred sample would drop (a lens) when neither the file nor the caller says
+/// how many: enough to show it (the viewer's default too).
+pub const DEFAULT_EFFECT_SPP: u32 = 16;
 /// Grid side of a P3F 2019 `al` area light, whose file gives none: 16 points with
 /// one eye sample per pixel.
 pub const AREA_LIGHT_GRID: u32 = 4;

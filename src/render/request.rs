@@ -5,7 +5,7 @@
 //! written once, here.
 
 use super::{check_settings, RenderOptions, Sampling};
-use crate::limits::{DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
+use crate::limits::{DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
 use crate::scene::SceneInfo;
 
 /// What a caller asks of a render; `None` leaves a setting to the scene or the
@@ -16,7 +16,8 @@ pub struct RenderRequest {
     pub width: Option<u32>,
     /// Image height.
     pub height: Option<u32>,
-    /// Samples per pixel (default: the file's `spp`, else 1).
+    /// Samples per pixel (default: the file's `spp`, else 1 — or
+    /// [`DEFAULT_EFFECT_SPP`] when an effect needs samples).
     pub spp: Option<u32>,
     /// The SPD benchmark protocol: rays through the pixel corners (not with `spp`).
     pub spd: bool,
@@ -64,8 +65,13 @@ impl RenderRequest {
     }
 
     /// The sampling: the SPD's corners, or `spp` from the request, else from the
-    /// file; one sample through each pixel centre when neither says more.
-    fn sampling(&self, scene: &SceneInfo, _notes: &mut Vec<String>) -> Result<Sampling, String> {
+    /// file; one sample through each pixel centre when neither says more. An effect
+    /// that one centred sample would drop (a lens) is never dropped silently: with
+    /// neither saying anything it gets [`DEFAULT_EFFECT_SPP`] samples and a note,
+    /// and an explicit single sample is one jittered sample of the effect
+    /// (`Stratified { spp: 1 }`: noisy, not sharp). A file's `spp 0` asks for the
+    /// course's one fixed sample at the pixel centre, and gets it.
+    fn sampling(&self, scene: &SceneInfo, notes: &mut Vec<String>) -> Result<Sampling, String> {
         if self.spd {
             if self.spp.is_some() {
                 return Err("the SPD protocol has its own sampling: it cannot be combined with spp".into());
@@ -75,11 +81,31 @@ impl RenderRequest {
         if self.spp == Some(0) {
             return Err("0 samples per pixel: at least 1".into());
         }
-        let spp = self.spp.or(scene.spp).unwrap_or(1);
+        let effect = self.effect_needing_samples(scene);
+        let spp = match (self.spp.or(scene.spp), effect) {
+            (Some(n), _) => n,
+            (None, Some(effect)) => {
+                notes.push(format!(
+                    "{effect} needs more than one sample per pixel: rendering with {DEFAULT_EFFECT_SPP} \
+                     (set spp to choose)"
+                ));
+                DEFAULT_EFFECT_SPP
+            }
+            (None, None) => 1,
+        };
         Ok(match spp {
-            0 | 1 => Sampling::PixelCenters,
+            0 => Sampling::PixelCenters,
+            1 if effect.is_some() => Sampling::Stratified { spp: 1 },
+            1 => Sampling::PixelCenters,
             spp => Sampling::Stratified { spp },
         })
+    }
+
+    /// The first effect of the render that one centred sample per pixel would drop,
+    /// named for a note: the lens.
+    fn effect_needing_samples(&self, scene: &SceneInfo) -> Option<&'static str> {
+        let aperture = self.aperture.unwrap_or(scene.view.aperture);
+        (aperture > 0.0).then_some("the lens (depth of field)")
     }
 }
 
@@ -144,6 +170,9 @@ mod tests {
     }
 
     const NFF: &str = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 640 480\ns 0 0 0 1\n";
+    const LENS: &str =
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 64 48 aperture 8 focal 1\n\
+                        s 0 0 0 1\n";
     #[test]
     fn one_side_given_keeps_the_aspect_ratio() {
         assert_eq!(image_size(None, None, 640, 480), Ok((640, 480)));
@@ -195,6 +224,57 @@ mod tests {
         assert_eq!(
             four.resolve(&p3f).unwrap().opts.sampling,
             Sampling::Stratified { spp: 4 }
+        );
+    }
+
+    #[test]
+    fn a_lens_is_never_dropped_silently() {
+        let lens = scene(LENS, true);
+        // No spp anywhere: the default that shows the effect, and a note saying so.
+        let r = RenderRequest::default().resolve(&lens).unwrap();
+        assert_eq!(
+            r.opts.sampling,
+            Sampling::Stratified {
+                spp: DEFAULT_EFFECT_SPP
+            }
+        );
+        assert_eq!(r.notes.len(), 1);
+        assert!(
+            r.notes[0].contains("lens") && r.notes[0].contains("16"),
+            "{:?}",
+            r.notes
+        );
+        // An explicit single sample: one jittered lens sample, no note.
+        let one = RenderRequest {
+            spp: Some(1),
+            ..Default::default()
+        };
+        let r = one.resolve(&lens).unwrap();
+        assert_eq!(
+            (r.opts.sampling, r.notes.len()),
+            (Sampling::Stratified { spp: 1 }, 0)
+        );
+        // A lens asked for on a pinhole scene, and a lens switched off.
+        let plain = scene(NFF, false);
+        let asked = RenderRequest {
+            aperture: Some(6.0),
+            ..Default::default()
+        };
+        assert_eq!(
+            asked.resolve(&plain).unwrap().opts.sampling,
+            Sampling::Stratified { spp: 16 }
+        );
+        let off = RenderRequest {
+            aperture: Some(0.0),
+            ..Default::default()
+        };
+        let r = off.resolve(&lens).unwrap();
+        assert_eq!((r.opts.sampling, r.notes.len()), (Sampling::PixelCenters, 0));
+        // The course's `spp 0`: one fixed sample at the pixel centre, as asked.
+        let spp0 = scene(&format!("spp 0\n{}", LENS.replace("v from", "camera eye")), true);
+        assert_eq!(
+            RenderRequest::default().resolve(&spp0).unwrap().opts.sampling,
+            Sampling::PixelCenters
         );
     }
 

@@ -211,7 +211,11 @@ impl Session {
         let l = &self.loaded;
         let info = l.scene.info();
         let view = &info.view;
-        let spp = self.app.spp.or(info.spp.filter(|&n| n > 0)).unwrap_or(16);
+        let spp = self
+            .app
+            .spp
+            .or(info.spp.filter(|&n| n > 0))
+            .unwrap_or(nffrt::limits::DEFAULT_EFFECT_SPP);
         ServerMessage::Scene {
             name: self.app.name.clone(),
             dialect: match info.dialect {
