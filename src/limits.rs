@@ -43,6 +43,9 @@ pub const MAX_THREADS: u32 = 1024;
 
 /// The default maximum ray-tree depth (the SPD's).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
+/// The shutter interval `[open, close]` of a scene that gives none (P3F `shutter`):
+/// the course's templates open the camera from time 0 to 1.
+pub const DEFAULT_SHUTTER: [f32; 2] = [0.0, 1.0];
 /// Grid side of a P3F 2019 `al` area light, whose file gives none: 16 points with
 /// one eye sample per pixel.
 pub const AREA_LIGHT_GRID: u32 = 4;

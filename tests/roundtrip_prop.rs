@@ -60,6 +60,7 @@ fn material() -> impl Strategy<Value = Material> {
         shine,
         t,
         ior,
+        ..Material::DEFAULT
     })
 }
 
