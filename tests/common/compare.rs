@@ -84,6 +84,13 @@ pub fn same_scene(a: &Scene, b: &Scene) -> Result<(), String> {
     if a.background != b.background {
         return Err(format!("background: {:?} vs {:?}", a.background, b.background));
     }
+    if (a.shutter, a.integrator) != (b.shutter, b.integrator) {
+        return Err(format!(
+            "shutter, integrator: {:?} vs {:?}",
+            (a.shutter, a.integrator),
+            (b.shutter, b.integrator)
+        ));
+    }
     let diff = first_difference("lights", &a.lights, &b.lights)
         .or_else(|| first_difference("materials", &a.materials, &b.materials))
         .or_else(|| first_difference("spheres", &a.spheres, &b.spheres))
