@@ -35,6 +35,7 @@ fn p3f_scenes() -> Option<Vec<PathBuf>> {
 #[derive(Debug, Default, PartialEq)]
 struct Counts {
     spheres: u64,
+    moving_spheres: u64,
     polygons: u64,
     patches: u64,
     cones: u64,
@@ -74,6 +75,7 @@ fn count_tokens(bytes: &[u8]) -> Counts {
     for (i, tok) in tokens.iter().enumerate() {
         match *tok {
             "s" => c.spheres += 1,
+            "sm" => c.moving_spheres += 1,
             "p" => c.polygons += 1,
             "pp" => c.patches += 1,
             "c" => c.cones += 1,
@@ -108,6 +110,7 @@ fn count_tokens(bytes: &[u8]) -> Counts {
 fn reported(json: &serde_json::Value) -> Counts {
     Counts {
         spheres: field(json, "spheres"),
+        moving_spheres: field(json, "moving_spheres"),
         polygons: field(json, "polygons"),
         patches: field(json, "patches"),
         cones: field(json, "cones"),
@@ -171,6 +174,35 @@ fn info_json_matches_an_independent_token_count_for_every_course_scene() {
         let dialect = json["dialect"].as_str().unwrap_or_default().to_string();
         assert!(dialect.starts_with("p3f-"), "{what}: {dialect}");
     }
+}
+
+/// The course's moving-sphere scene (`extensions/ball_motion.p3f`, a 2019/20 file
+/// with `sm`) parses, its sphere's nine numbers as the file writes them. (`nffrt`
+/// itself refuses to render it: the `skybox` folder it names is not shipped with it.)
+#[test]
+fn the_course_moving_sphere_scene_parses_with_its_numbers() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/p3f/extensions/ball_motion.p3f");
+    if !path.is_file() {
+        eprintln!("skipped: {} is absent", path.display());
+        return;
+    }
+    let bytes = std::fs::read(&path).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    let tokens = tokens_without_comments(&text);
+    let at = tokens.iter().position(|t| *t == "sm").expect("an sm in the file");
+    let n: Vec<f32> = tokens[at + 1..at + 10]
+        .iter()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    let scene = nffrt::nff::parse_format(&bytes, nffrt::nff::Format::P3f, &Default::default()).unwrap();
+    assert_eq!(count_tokens(&bytes).moving_spheres, 1);
+    assert_eq!(scene.moving_spheres.len(), 1);
+    let m = scene.moving_spheres[0];
+    assert_eq!(m.center0.to_array(), [n[0], n[1], n[2]]);
+    assert_eq!(m.center1.to_array(), [n[3], n[4], n[5]]);
+    assert_eq!([m.radius, m.time0, m.time1], [n[6], n[7], n[8]]);
+    assert_eq!(scene.dialect, nffrt::scene::Dialect::P3f2019);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }
 
 /// Width and height from a PNG's IHDR chunk.
