@@ -47,6 +47,9 @@ pub const DEFAULT_MAX_DEPTH: u32 = 5;
 /// centred sample would drop (a lens) when neither the file nor the caller says
 /// how many: enough to show it (the viewer's default too).
 pub const DEFAULT_EFFECT_SPP: u32 = 16;
+/// The shutter interval `[open, close]` of a scene that gives none (P3F `shutter`):
+/// the course's templates open the camera from time 0 to 1.
+pub const DEFAULT_SHUTTER: [f32; 2] = [0.0, 1.0];
 /// Grid side of a P3F 2019 `al` area light, whose file gives none: 16 points with
 /// one eye sample per pixel.
 pub const AREA_LIGHT_GRID: u32 = 4;

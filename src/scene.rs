@@ -7,10 +7,12 @@
 //! A generated scene ([`crate::gen`]) numbers its primitives with the lines they
 //! occupy when [`crate::nff::write_nff`] writes it, which also fixes their order there.
 
+use crate::limits::DEFAULT_SHUTTER;
 use crate::math::{Aabb, Vec3};
 
-/// A surface material: the operands of NFF's `f` keyword, or of P3F's 11-number
-/// `f` / `mat` with its specular colour.
+/// A surface material: the operands of NFF's `f` keyword, or of P3F's `f` / `mat`
+/// with its specular colour (11 numbers), its emitted radiance (14 numbers) and an
+/// optional `roughness R` suffix (docs/p3f.md).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     /// Base (diffuse) colour (linear RGB).
@@ -27,6 +29,13 @@ pub struct Material {
     pub t: f32,
     /// Index of refraction (meaningless when `t == 0`).
     pub ior: f32,
+    /// Emitted radiance (linear RGB, as given): P3F's 12th to 14th numbers; zero
+    /// when the file gives none, and always in NFF.
+    pub emission: Vec3,
+    /// Roughness in [0, 1] of the mirror reflection and the refraction: 0 is a
+    /// perfect mirror and smooth glass (P3F's `roughness R`; 0 when absent and
+    /// always in NFF).
+    pub roughness: f32,
 }
 
 impl Material {
@@ -40,6 +49,8 @@ impl Material {
         shine: 1.0,
         t: 0.0,
         ior: 1.0,
+        emission: Vec3::ZERO,
+        roughness: 0.0,
     };
 }
 
@@ -165,6 +176,46 @@ pub struct Sphere {
     pub line: u32,
 }
 
+/// A moving sphere (P3F `sm cx0 cy0 cz0  cx1 cy1 cz1  r  t0 t1`): its centre is
+/// `center0` at `time0` and `center1` at `time1`, and moves in a straight line at
+/// constant speed, before `time0` and after `time1` too (see
+/// [`MovingSphere::center_at`]).
+///
+/// Invariant (the parser's): `time0 != time1`, and the velocity is finite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovingSphere {
+    /// Centre at `time0`.
+    pub center0: Vec3,
+    /// Centre at `time1`.
+    pub center1: Vec3,
+    /// Radius as written: negative means only the inside is visible (as `s`'s).
+    pub radius: f32,
+    /// The time of `center0`.
+    pub time0: f32,
+    /// The time of `center1`.
+    pub time1: f32,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Line of the `sm` keyword in the source.
+    pub line: u32,
+}
+
+impl MovingSphere {
+    /// The centre's displacement per unit of time, `(center1 - center0) / (time1 - time0)`.
+    #[inline]
+    pub fn velocity(&self) -> Vec3 {
+        (self.center1 - self.center0) / (self.time1 - self.time0)
+    }
+
+    /// The centre at `time`: `center0 + (time - time0) * velocity` (linear in between
+    /// the two times and beyond them; the render-time shape computes it the same way,
+    /// `geometry::MovingSphereShape`).
+    #[inline]
+    pub fn center_at(&self, time: f32) -> Vec3 {
+        self.center0 + self.velocity() * (time - self.time0)
+    }
+}
+
 /// An open cone or cylinder (`c bx by bz br ax ay az ar`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cone {
@@ -277,6 +328,28 @@ pub enum Accel {
     Bvh,
 }
 
+/// The light transport a P3F file asks for (`integrator`); the command line's
+/// choice wins over it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    /// `integrator whitted`: Whitted's recursive ray tracing (distribution ray
+    /// tracing with more than one sample per pixel).
+    Whitted,
+    /// `integrator path`: path tracing.
+    Path,
+}
+
+impl Integrator {
+    /// The integrator's name as the file spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Whitted => "whitted",
+            Integrator::Path => "path",
+        }
+    }
+}
+
 /// A skybox named by the scene (P3F `env FOLDER`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
@@ -323,6 +396,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Spheres.
     pub spheres: Vec<Sphere>,
+    /// Moving spheres (P3F `sm`).
+    pub moving_spheres: Vec<MovingSphere>,
     /// Cones and cylinders.
     pub cones: Vec<Cone>,
     /// Polygons.
@@ -350,6 +425,12 @@ pub struct Scene {
     pub spp: Option<u32>,
     /// The acceleration structure the file asks for (P3F `accel`).
     pub accel: Option<Accel>,
+    /// The times the camera's shutter opens and closes, `[open, close]` with
+    /// `open <= close` (P3F `shutter`); `None` when the file does not say, which
+    /// means [`DEFAULT_SHUTTER`] (see [`Scene::shutter_interval`]).
+    pub shutter: Option<[f32; 2]>,
+    /// The integrator the file asks for (P3F `integrator`).
+    pub integrator: Option<Integrator>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
 }
@@ -376,6 +457,10 @@ pub struct SceneInfo {
     pub spp: Option<u32>,
     /// The acceleration structure the file asks for (P3F `accel`).
     pub accel: Option<Accel>,
+    /// When the camera's shutter opens and closes ([`Scene::shutter_interval`]).
+    pub shutter: [f32; 2],
+    /// The integrator the file asks for (P3F `integrator`).
+    pub integrator: Option<Integrator>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
     /// The number of primitives of each kind outside meshes ([`Scene::kind_counts`]).
@@ -414,11 +499,17 @@ impl Scene {
         &self.mesh_triangles[m.first_triangle as usize..(m.first_triangle + m.triangle_count) as usize]
     }
 
+    /// The shutter interval `[open, close]`: the file's, else [`DEFAULT_SHUTTER`].
+    pub fn shutter_interval(&self) -> [f32; 2] {
+        self.shutter.unwrap_or(DEFAULT_SHUTTER)
+    }
+
     /// The number of primitives of each kind outside meshes, named as `nffrt info`
     /// names them.
-    pub fn kind_counts(&self) -> [(&'static str, usize); 6] {
+    pub fn kind_counts(&self) -> [(&'static str, usize); 7] {
         [
             ("spheres", self.spheres.len()),
+            ("moving_spheres", self.moving_spheres.len()),
             ("polygons", self.polygons.len()),
             ("patches", self.patches.len()),
             ("cones", self.cones.len()),
@@ -447,6 +538,7 @@ impl Scene {
             lights,
             materials: _,
             spheres,
+            moving_spheres,
             cones,
             polygons,
             polygon_vertices,
@@ -460,6 +552,8 @@ impl Scene {
             mesh_triangles,
             spp: _,
             accel: _,
+            shutter: _,
+            integrator: _,
             warnings: _,
         } = other;
         let polygon_base = self.polygon_vertices.len() as u32;
@@ -471,6 +565,11 @@ impl Scene {
             remap(&mut x.material, material);
             x
         }));
+        self.moving_spheres
+            .extend(moving_spheres.into_iter().map(|mut x| {
+                remap(&mut x.material, material);
+                x
+            }));
         self.cones.extend(cones.into_iter().map(|mut x| {
             remap(&mut x.material, material);
             x
@@ -522,6 +621,8 @@ impl Scene {
             materials: self.materials.clone(),
             spp: self.spp,
             accel: self.accel,
+            shutter: self.shutter_interval(),
+            integrator: self.integrator,
             warnings: self.warnings.clone(),
             kind_counts: self.kind_counts().to_vec(),
             meshes: self.meshes.len(),
@@ -531,12 +632,24 @@ impl Scene {
         }
     }
 
-    /// Bounding box of every bounded primitive (planes excluded); empty if none.
+    /// Bounding box of every bounded primitive (planes excluded), moving spheres over
+    /// their motion while the shutter is open ([`Scene::shutter_interval`]); empty if
+    /// none.
     pub fn bounds(&self) -> Aabb {
+        let ball = |c: Vec3, radius: f32| {
+            let r = Vec3::splat(radius.abs());
+            Aabb::new(c - r, c + r)
+        };
         let mut b = Aabb::EMPTY;
         for s in &self.spheres {
-            let r = Vec3::splat(s.radius.abs());
-            b = b.union(Aabb::new(s.center - r, s.center + r));
+            b = b.union(ball(s.center, s.radius));
+        }
+        // The centre moves in a straight line: its extremes are at the shutter's ends.
+        let [open, close] = self.shutter_interval();
+        for s in &self.moving_spheres {
+            b = b
+                .union(ball(s.center_at(open), s.radius))
+                .union(ball(s.center_at(close), s.radius));
         }
         for c in &self.cones {
             let rb = Vec3::splat(c.base_radius.abs());

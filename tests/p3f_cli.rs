@@ -134,3 +134,35 @@ fn format_p3f_reads_standard_input_and_the_extension_is_the_default() {
     assert_eq!(run.status.code(), Some(3));
     assert!(String::from_utf8_lossy(&run.stderr).contains("<stdin>:1:1: unknown keyword \"spp\""));
 }
+
+#[test]
+fn info_reports_the_course_additions_in_text_and_json() {
+    let path = common::data_dir("ok").join("p3f_course_additions.p3f");
+    let path = path.to_str().unwrap();
+    let text = nffrt(&["info", path], b"");
+    let text = String::from_utf8_lossy(&text.stdout);
+    for line in [
+        "integrator  path (as the file asks)",
+        "shutter     open from time 0.25 to 0.75",
+        "materials   3 (2 emitting, 2 rough)",
+        "  moving_spheres 2",
+    ] {
+        assert!(text.lines().any(|l| l == line), "{line:?} not in\n{text}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&nffrt(&["info", "--json", path], b"").stdout).unwrap();
+    assert_eq!(json["integrator"], "path");
+    assert_eq!(json["shutter"], serde_json::json!([0.25, 0.75]));
+    // Without a shutter: open from 0 to 1, said so in the text once a sphere moves.
+    let src = b"camera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40\nsm 0 0 0 1 0 0 0.5 0 1\n";
+    let json: serde_json::Value =
+        serde_json::from_slice(&nffrt(&["info", "--json", "--format", "p3f", "-"], src).stdout).unwrap();
+    assert_eq!(json["shutter"], serde_json::json!([0.0, 1.0]));
+    assert_eq!(json.get("integrator"), None);
+    let text = nffrt(&["info", "--format", "p3f", "-"], src);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("shutter     open from time 0 to 1 (the default)"),
+        "{text}"
+    );
+}

@@ -16,8 +16,11 @@ use nffrt::scene::Material;
 use nffrt::Scene;
 
 /// Counts that must be 0 unless the header says otherwise.
-const ZERO_BY_DEFAULT: [&str; 10] = [
+const ZERO_BY_DEFAULT: [&str; 13] = [
     "spheres",
+    "moving_spheres",
+    "emissive_materials",
+    "rough_materials",
     "polygons",
     "patches",
     "cones",

@@ -1,13 +1,18 @@
-//! Random scenes written to NFF text and parsed back give the same scene (property
-//! test; the fixed corpora are in `roundtrip.rs`). Numbers range from tiny to huge,
-//! every primitive kind and optional field appears, and materials are shared at random.
+//! Random scenes written to NFF or P3F text and parsed back give the same scene
+//! (property test; the fixed corpora are in `roundtrip.rs`). Numbers range from tiny
+//! to huge, every primitive kind and optional field appears, and materials are shared
+//! at random; P3F scenes add specular colours, emission, roughness, moving spheres, a
+//! lens, the shutter and the integrator.
 
 mod common;
 
 use common::compare::same_scene;
 use nffrt::math::Vec3;
-use nffrt::nff::{parse_bytes, write_nff};
-use nffrt::scene::{BoxPrim, Cone, Light, Material, Patch, Plane, Polygon, Scene, Sphere, View};
+use nffrt::nff::{parse_bytes, parse_format, write_nff, write_p3f, Format};
+use nffrt::scene::{
+    AngleSpan, BoxPrim, Cone, Dialect, Integrator, Light, Material, MovingSphere, Patch, Plane, Polygon,
+    Scene, Sphere, View,
+};
 use proptest::prelude::*;
 
 /// Any finite float, mostly moderate, sometimes tiny or huge.
@@ -60,6 +65,7 @@ fn material() -> impl Strategy<Value = Material> {
         shine,
         t,
         ior,
+        ..Material::DEFAULT
     })
 }
 
@@ -200,8 +206,81 @@ fn scene() -> impl Strategy<Value = Scene> {
         })
 }
 
+/// What P3F adds to a material: a specular colour, an emission (often none) and a
+/// roughness (often none).
+fn p3f_finish() -> impl Strategy<Value = (Vec3, Vec3, f32)> {
+    (
+        vec3(),
+        prop_oneof![Just(Vec3::ZERO), vec3()],
+        prop_oneof![Just(0.0f32), 0.0f32..=1.0, Just(1.0f32)],
+    )
+}
+
+/// A moving sphere's operands: centres, a non-zero radius, two different times
+/// whose velocity stays finite.
+fn moving_sphere() -> impl Strategy<Value = (Vec3, Vec3, f32, f32, f32)> {
+    let nonzero = num().prop_filter("non-zero radius", |r| *r != 0.0);
+    (vec3(), vec3(), nonzero, num(), num())
+        .prop_filter("two times, a finite velocity", |&(c0, c1, _, t0, t1)| {
+            t0 != t1 && ((c1 - c0) / (t1 - t0)).is_finite()
+        })
+}
+
+/// A scene as P3F says it: [`scene`]'s, with coloured lights, a lens and image-edge
+/// angle, P3F materials, moving spheres, and maybe a shutter and an integrator.
+fn p3f_scene() -> impl Strategy<Value = Scene> {
+    (
+        scene(),
+        prop::collection::vec(p3f_finish(), 4),
+        prop::collection::vec((moving_sphere(), any::<prop::sample::Index>()), 0..6),
+        (0.0f32..10.0, 0.1f32..10.0),
+        prop::option::of((num(), num())),
+        prop::option::of(prop_oneof![Just(Integrator::Whitted), Just(Integrator::Path)]),
+    )
+        .prop_map(
+            |(mut s, finishes, moving, (aperture, focal), shutter, integrator)| {
+                s.dialect = Dialect::P3f2025;
+                s.view.angle_span = AngleSpan::ImageEdges;
+                (s.view.aperture, s.view.focal) = (aperture, focal);
+                for l in &mut s.lights {
+                    l.color.get_or_insert(Vec3::ONE);
+                }
+                for (i, m) in s.materials.iter_mut().enumerate() {
+                    (m.specular, m.emission, m.roughness) = finishes[i % finishes.len()];
+                }
+                // After every other primitive's line.
+                let n_mat = s.materials.len();
+                for (k, ((center0, center1, radius, time0, time1), m)) in moving.into_iter().enumerate() {
+                    s.moving_spheres.push(MovingSphere {
+                        center0,
+                        center1,
+                        radius,
+                        time0,
+                        time1,
+                        material: m.index(n_mat) as u32,
+                        line: 1000 + k as u32,
+                    });
+                }
+                s.shutter = shutter.map(|(a, b)| [a.min(b), a.max(b)]);
+                s.integrator = integrator;
+                s
+            },
+        )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn random_p3f_scenes_survive_write_and_parse(scene in p3f_scene()) {
+        let mut text = Vec::new();
+        write_p3f(&scene, &mut text).unwrap();
+        let back = parse_format(&text, Format::P3f, &Default::default()).map_err(|e| {
+            TestCaseError::fail(format!("{e}\n{}", String::from_utf8_lossy(&text)))
+        })?;
+        prop_assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+        prop_assert_eq!(same_scene(&scene, &back), Ok(()), "{}", String::from_utf8_lossy(&text));
+    }
 
     #[test]
     fn random_scenes_survive_write_and_parse(scene in scene()) {

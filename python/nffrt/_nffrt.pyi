@@ -37,6 +37,7 @@ class Stats(TypedDict):
 
 class Counts(TypedDict):
     spheres: int
+    moving_spheres: int
     cones: int
     polygons: int
     patches: int

@@ -10,7 +10,7 @@ use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
-use nffrt::scene::{Accel, Dialect};
+use nffrt::scene::{Accel, Dialect, Integrator};
 
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
@@ -62,6 +62,16 @@ struct InfoJson {
     /// P3F `spp`, if given.
     #[serde(skip_serializing_if = "Option::is_none")]
     spp: Option<u32>,
+    /// P3F `integrator` as written, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    integrator: Option<Integrator>,
+    /// The shutter's opening and closing times: the file's `shutter`, else 0 and 1.
+    shutter: [f32; 2],
+    /// Materials that emit light (P3F's 14-number `f` / `mat`).
+    emissive_materials: usize,
+    /// Materials with a non-zero roughness (P3F `roughness`).
+    rough_materials: usize,
+    moving_spheres: usize,
     /// The skybox folder as written, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     skybox: Option<String>,
@@ -103,6 +113,11 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             dialect: dialect_name(s.dialect),
             accel: s.accel,
             spp: s.spp,
+            integrator: s.integrator,
+            shutter: s.shutter_interval(),
+            emissive_materials: emissive_materials(s),
+            rough_materials: rough_materials(s),
+            moving_spheres: s.moving_spheres.len(),
             skybox: s.environment.as_ref().map(|e| e.folder.clone()),
             area_lights: area_lights(s),
             meshes: s.meshes.len(),
@@ -164,6 +179,14 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             }
         );
     }
+    if let Some(i) = s.integrator {
+        outln!("integrator  {} (as the file asks)", i.name());
+    }
+    if s.shutter.is_some() || !s.moving_spheres.is_empty() {
+        let [open, close] = s.shutter_interval();
+        let default = if s.shutter.is_none() { " (the default)" } else { "" };
+        outln!("shutter     open from time {open} to {close}{default}");
+    }
     if v.aperture > 0.0 {
         outln!(
             "lens        aperture {} pixels, focal {} x the view distance",
@@ -181,11 +204,19 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         s.lights.len() - areas,
         areas
     );
-    outln!("materials   {}", s.materials.len());
+    let (emissive, rough) = (emissive_materials(s), rough_materials(s));
+    let finish = match (emissive, rough) {
+        (0, 0) => String::new(),
+        (e, 0) => format!(" ({e} emitting)"),
+        (0, r) => format!(" ({r} rough)"),
+        (e, r) => format!(" ({e} emitting, {r} rough)"),
+    };
+    outln!("materials   {}{finish}", s.materials.len());
     outln!("primitives  {}", s.primitive_count());
     for (name, n) in s.kind_counts() {
         if n > 0 {
-            outln!("  {name:<10}{n}");
+            // (A name of ten letters or more still gets a space.)
+            outln!("  {name:<9} {n}");
         }
     }
     if !s.meshes.is_empty() {
@@ -229,6 +260,17 @@ fn accel_name(a: Accel) -> &'static str {
 
 fn area_lights(s: &nffrt::Scene) -> usize {
     s.lights.iter().filter(|l| l.area.is_some()).count()
+}
+
+fn emissive_materials(s: &nffrt::Scene) -> usize {
+    s.materials
+        .iter()
+        .filter(|m| m.emission != nffrt::math::Vec3::ZERO)
+        .count()
+}
+
+fn rough_materials(s: &nffrt::Scene) -> usize {
+    s.materials.iter().filter(|m| m.roughness != 0.0).count()
 }
 
 fn print_bvh(b: &BvhInfo) {

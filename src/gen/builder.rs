@@ -73,6 +73,7 @@ impl Surface {
             shine: spd_round(shine),
             t: spd_round(self.t),
             ior: spd_round(self.ior),
+            ..Material::DEFAULT
         }
     }
 }

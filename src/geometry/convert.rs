@@ -3,6 +3,7 @@
 //! | NFF | becomes |
 //! |---|---|
 //! | `s` | one [`SphereShape`] |
+//! | P3F `sm` | one [`MovingSphereShape`], for the shutter interval given |
 //! | `c` | one [`ConeShape`] |
 //! | `p 3` | one flat [`Triangle`] |
 //! | `p n`, convex | a fan of flat [`Triangle`]s from the first vertex |
@@ -17,19 +18,29 @@
 //! to be a small convex piece of a smooth surface. A concave patch is therefore
 //! covered by its fan as well, which is wrong in its notches; this is accepted.
 //!
-//! Primitives come out kind by kind (spheres, cones, polygons, patches, planes,
-//! boxes, mesh triangles), each kind in file order, so the result is deterministic.
+//! Primitives come out kind by kind (spheres, moving spheres, cones, polygons,
+//! patches, planes, boxes, mesh triangles: [`SourceKind::ALL`]), each kind in file
+//! order, so the result is deterministic.
 
 use super::{
-    BoxShape, ConeShape, Geometry, GeometryData, PlaneShape, PolygonShape, Primitive, Shape, SourceKind,
-    SphereShape, Triangle,
+    BoxShape, ConeShape, Geometry, GeometryData, MovingSphereShape, PlaneShape, PolygonShape, Primitive,
+    Shape, SourceKind, SphereShape, Triangle,
 };
 use crate::math::Vec3;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
-/// Converts every primitive of `scene` (see the module docs for the mapping).
+/// Converts every primitive of `scene` (see the module docs for the mapping), its
+/// moving spheres for the scene's own shutter ([`Scene::shutter_interval`]).
 pub fn build_geometry(scene: &Scene) -> Geometry {
+    build_geometry_for_shutter(scene, scene.shutter_interval())
+}
+
+/// [`build_geometry`] for a camera whose shutter is open over `shutter`
+/// (`[open, close]`, `open <= close`), which bounds the moving spheres and clamps
+/// the times they are seen at (see [`MovingSphereShape`]): for a caller that
+/// renders the scene with another shutter than its file's.
+pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry {
     let mut g = Geometry::default();
     g.primitives.reserve(scene.primitive_count());
     // Spheres and cones (hundreds of thousands in generated scenes) are converted in
@@ -40,6 +51,13 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
             material: s.material,
             line: s.line,
             kind: SourceKind::Sphere,
+        }));
+    g.primitives
+        .extend(scene.moving_spheres.iter().map(|m| Primitive {
+            shape: Shape::MovingSphere(MovingSphereShape::new(m, shutter)),
+            material: m.material,
+            line: m.line,
+            kind: SourceKind::MovingSphere,
         }));
     g.primitives.par_extend(scene.cones.par_iter().map(|c| Primitive {
         shape: Shape::Cone(ConeShape::new(c.base, c.base_radius, c.apex, c.apex_radius)),
@@ -303,6 +321,32 @@ mod tests {
             .primitives
             .iter()
             .all(|p| p.bounds(&g.data).is_some() != (p.kind == Plane)));
+    }
+
+    #[test]
+    fn moving_spheres_follow_the_spheres_and_are_bounded_over_the_shutter_asked_for() {
+        let src = "camera eye 0 0 10 at 0 0 0 up 0 1 0 angle 40\nshutter 0 0.5\n\
+                   mat 1 1 1 1 1 1 1 0 9 0 1\nc 0 0 0 1 0 0 2 1\nsm 0 0 0 4 0 0 1 0 1\ns 9 9 9 1\n";
+        let scene =
+            crate::nff::parse_format(src.as_bytes(), crate::nff::Format::P3f, &Default::default()).unwrap();
+        let g = build_geometry(&scene);
+        let kinds: Vec<_> = g.primitives.iter().map(|p| p.kind).collect();
+        use SourceKind::*;
+        assert_eq!(kinds, [Sphere, MovingSphere, Cone]);
+        assert_eq!(g.primitives[1].line, 5);
+        // The file's shutter, [0, 0.5]: centres 0 to 2 along x.
+        let b = g.primitives[1].bounds(&g.data).unwrap();
+        assert_eq!((b.min.x, b.max.x), (-1.0, 3.0));
+        // Another shutter, [0.5, 1]: centres 2 to 4.
+        let g = build_geometry_for_shutter(&scene, [0.5, 1.0]);
+        let b = g.primitives[1].bounds(&g.data).unwrap();
+        assert_eq!((b.min.x, b.max.x), (1.0, 5.0));
+        // Seen at the ray's time: along -z at x = 4 from z = 5, hit at time 1 (centre
+        // x = 4: the top at z = 1) and missed at time 0.5 (centre x = 2, two away).
+        let down = |time| Ray::with_time(Vec3::new(4.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0), time);
+        let h = g.primitives[1].intersect(&down(1.0), INF, &g.data).unwrap();
+        assert_eq!(h.t, 4.0);
+        assert_eq!(g.primitives[1].intersect(&down(0.5), INF, &g.data), None);
     }
 
     /// Brute-force closest hit: the primitive's index and the hit.

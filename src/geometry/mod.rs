@@ -5,6 +5,9 @@
 //! distance and two surface parameters ([`Hit`]). Phase two, once for the winner:
 //! [`Primitive::surface`] computes the point and normals ([`Surface`]).
 //!
+//! A moving sphere is intersected where it is at the ray's time ([`Ray::time`]); the
+//! other shapes stand still.
+//!
 //! Conventions shared by every shape:
 //! - surfaces are two-sided (a hit from either side counts), except spheres and cones
 //!   marked inside-only (negative radii), which report only hits where the ray travels
@@ -18,6 +21,7 @@
 pub mod aabb_box;
 pub mod cone;
 mod convert;
+pub mod moving_sphere;
 pub mod plane;
 pub mod polygon;
 #[cfg(test)]
@@ -30,7 +34,8 @@ use crate::math::{Aabb, Ray, Vec3};
 
 pub use aabb_box::BoxShape;
 pub use cone::ConeShape;
-pub use convert::build_geometry;
+pub use convert::{build_geometry, build_geometry_for_shutter};
+pub use moving_sphere::MovingSphereShape;
 pub use plane::PlaneShape;
 pub use polygon::PolygonShape;
 pub use sphere::SphereShape;
@@ -73,6 +78,8 @@ pub struct GeometryData {
 pub enum Shape {
     /// A sphere.
     Sphere(SphereShape),
+    /// A sphere moving in a straight line, intersected at the ray's time.
+    MovingSphere(MovingSphereShape),
     /// A triangle (from a `p 3`, a convex polygon's fan, or a patch).
     Triangle(Triangle),
     /// A general (concave) polygon tested by crossings in its dominant plane.
@@ -90,6 +97,8 @@ pub enum Shape {
 pub enum SourceKind {
     /// `s`
     Sphere,
+    /// P3F `sm`
+    MovingSphere,
     /// `p`
     Polygon,
     /// `pp`
@@ -102,6 +111,20 @@ pub enum SourceKind {
     Box,
     /// a triangle of a P3F `mesh`
     Mesh,
+}
+
+impl SourceKind {
+    /// Every kind, in the order [`build_geometry`] emits them.
+    pub const ALL: [SourceKind; 8] = [
+        SourceKind::Sphere,
+        SourceKind::MovingSphere,
+        SourceKind::Cone,
+        SourceKind::Polygon,
+        SourceKind::Patch,
+        SourceKind::Plane,
+        SourceKind::Box,
+        SourceKind::Mesh,
+    ];
 }
 
 /// One render-time primitive: its shape, material and provenance.
@@ -137,6 +160,7 @@ impl Primitive {
     pub fn bounds(&self, data: &GeometryData) -> Option<Aabb> {
         match &self.shape {
             Shape::Sphere(s) => Some(s.bounds()),
+            Shape::MovingSphere(s) => Some(s.bounds()),
             Shape::Triangle(s) => Some(s.bounds()),
             Shape::Polygon(s) => Some(s.bounds(data)),
             Shape::Cone(s) => Some(s.bounds()),
@@ -150,6 +174,7 @@ impl Primitive {
     pub fn intersect(&self, ray: &Ray, t_max: f32, data: &GeometryData) -> Option<Hit> {
         match &self.shape {
             Shape::Sphere(s) => s.intersect(ray, t_max),
+            Shape::MovingSphere(s) => s.intersect(ray, t_max),
             Shape::Triangle(s) => s.intersect(ray, t_max),
             Shape::Polygon(s) => s.intersect(ray, t_max, data),
             Shape::Cone(s) => s.intersect(ray, t_max),
@@ -177,6 +202,7 @@ impl Primitive {
     pub fn surface(&self, ray: &Ray, hit: &Hit, data: &GeometryData) -> Surface {
         match &self.shape {
             Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::MovingSphere(s) => s.surface(ray, hit),
             Shape::Triangle(s) => s.surface(ray, hit, data),
             Shape::Polygon(s) => s.surface(ray, hit),
             Shape::Cone(s) => s.surface(ray, hit),

@@ -149,7 +149,8 @@ impl Parser<'_> {
     }
 
     /// `f r g b Kd Ks shine T ior`; in P3F (`f` and `mat`)
-    /// `f dr dg db Kd sr sg sb Ks shine T ior`, with the specular colour.
+    /// `f dr dg db Kd sr sg sb Ks shine T ior [er eg eb] [roughness R]`, with the
+    /// specular colour, then optionally the emitted radiance and the roughness.
     pub(super) fn fill(&mut self, kw: &Token) -> Result<(), ParseError> {
         if kw.text == b"mat" {
             self.saw_p3f_2025 = true;
@@ -162,7 +163,7 @@ impl Parser<'_> {
         } else {
             Vec3::ONE
         };
-        let m = Material {
+        let mut m = Material {
             color,
             kd,
             specular,
@@ -170,7 +171,12 @@ impl Parser<'_> {
             shine: self.number("material shine")?,
             t: self.number("material T")?,
             ior: self.number("material ior")?,
+            ..Material::DEFAULT
         };
+        if p3f {
+            m.emission = self.emission()?;
+            m.roughness = self.roughness(kw)?;
+        }
         // Consecutive identical `f` lines share one table entry.
         let idx = match self.scene.materials.last() {
             Some(last) if *last == m => self.scene.materials.len() - 1,

@@ -59,6 +59,9 @@ pub(super) const KEYWORDS: &[Keyword] = &[
     kw("mat", false, true, false, |p, t| p.fill(t)),
     kw("spp", false, true, false, |p, t| p.samples_per_pixel(t)),
     kw("accel", false, true, false, |p, t| p.accelerator(t)),
+    kw("sm", false, true, false, |p, t| p.moving_sphere(t)),
+    kw("shutter", false, true, false, |p, t| p.shutter(t)),
+    kw("integrator", false, true, false, |p, t| p.integrator(t)),
 ];
 
 impl Keyword {

@@ -5,9 +5,14 @@ use super::error::ParseError;
 use super::lexer::Token;
 use super::parser::{invalid, loc, parse_f32, Loc, Parser};
 use crate::math::Vec3;
-use crate::scene::{Accel, BoxPrim, Environment, Light, LightArea, Mesh, MeshTriangle, Plane};
+use crate::scene::{
+    Accel, BoxPrim, Environment, Integrator, Light, LightArea, Mesh, MeshTriangle, MovingSphere, Plane,
+};
 
 use crate::limits::{AREA_LIGHT_GRID, MAX_SPP};
+
+/// The word that introduces a material's roughness (`mat ... roughness R`).
+pub(super) const ROUGHNESS: &str = "roughness";
 
 impl Parser<'_> {
     /// `env FOLDER`: a skybox, the six images `right left top bottom front back`
@@ -243,6 +248,108 @@ impl Parser<'_> {
         Ok(())
     }
 
+    /// `sm cx0 cy0 cz0  cx1 cy1 cz1  r  t0 t1`: a sphere whose centre is `c0` at time
+    /// `t0` and `c1` at `t1`, moving linearly (before `t0` and after `t1` too). Its
+    /// radius is read as `s`'s (0: skipped with a warning; negative: inside only).
+    pub(super) fn moving_sphere(&mut self, kw: &Token) -> Result<(), ParseError> {
+        self.admit_primitive(loc(kw))?;
+        let center0 = self.vec3("moving sphere centre at t0 x y z")?;
+        let center1 = self.vec3("moving sphere centre at t1 x y z")?;
+        let radius = self.number("moving sphere radius")?;
+        let time0 = self.number("moving sphere time t0")?;
+        let time1_at = self.next_loc(kw);
+        let time1 = self.number("moving sphere time t1")?;
+        let material = self.current_material(loc(kw));
+        if time0 == time1 {
+            return Err(invalid(
+                time1_at,
+                format!("moving sphere with t0 = t1 = {time0}: its two times must differ"),
+            ));
+        }
+        let sphere = MovingSphere {
+            center0,
+            center1,
+            radius,
+            time0,
+            time1,
+            material,
+            line: kw.line,
+        };
+        if !sphere.velocity().is_finite() {
+            return Err(invalid(
+                time1_at,
+                "moving sphere too fast: its centres are too far apart for its times (the velocity overflows f32)",
+            ));
+        }
+        if radius == 0.0 {
+            self.warn(loc(kw), "moving sphere of radius 0 skipped".into());
+            return Ok(());
+        }
+        self.scene.moving_spheres.push(sphere);
+        Ok(())
+    }
+
+    /// `shutter t0 t1`: the camera's shutter opens at time `t0` and closes at `t1`
+    /// (`t0 <= t1`); without it, it is open from 0 to 1.
+    pub(super) fn shutter(&mut self, kw: &Token) -> Result<(), ParseError> {
+        let open = self.number("shutter opening time t0")?;
+        let close_at = self.next_loc(kw);
+        let close = self.number("shutter closing time t1")?;
+        if close < open {
+            return Err(invalid(
+                close_at,
+                format!("shutter closing at {close}, before it opens at {open}"),
+            ));
+        }
+        if self.scene.shutter.is_some() {
+            self.warn(loc(kw), "a second 'shutter' replaces the first".into());
+        }
+        self.scene.shutter = Some([open, close]);
+        Ok(())
+    }
+
+    /// `integrator whitted|path`: the light transport the file asks for (the
+    /// command line's choice wins).
+    pub(super) fn integrator(&mut self, _kw: &Token) -> Result<(), ParseError> {
+        let tok = self.lexer.next();
+        self.scene.integrator = Some(match tok.as_ref().map(|t| t.text) {
+            Some(b"whitted") => Integrator::Whitted,
+            Some(b"path") => Integrator::Path,
+            _ => return Err(self.expected(tok, "'whitted' or 'path' after 'integrator'")),
+        });
+        Ok(())
+    }
+
+    /// A material's optional emitted radiance `r g b` after its 11 numbers: read when
+    /// three numbers follow. One or two are left alone, so that the first of them is
+    /// reported where a keyword should be (a twelfth number is no part of P3F).
+    pub(super) fn emission(&mut self) -> Result<Vec3, ParseError> {
+        let mut peek = self.lexer.clone();
+        let numbers = (0..3)
+            .take_while(|_| peek.next().is_some_and(|t| parse_f32(t.text).is_some()))
+            .count();
+        if numbers < 3 {
+            return Ok(Vec3::ZERO);
+        }
+        self.vec3("material emission r g b")
+    }
+
+    /// A material's optional `roughness R` suffix, `R` in [0, 1]; 0 without it.
+    pub(super) fn roughness(&mut self, kw: &Token) -> Result<f32, ParseError> {
+        let mut peek = self.lexer.clone();
+        match peek.next() {
+            Some(t) if t.text == ROUGHNESS.as_bytes() => {}
+            _ => return Ok(0.0),
+        }
+        self.lexer = peek;
+        let value_at = self.next_loc(kw);
+        let r = self.number("material roughness")?;
+        if !(0.0..=1.0).contains(&r) {
+            return Err(invalid(value_at, format!("roughness {r} is outside [0, 1]")));
+        }
+        Ok(r)
+    }
+
     /// `camera eye x y z at x y z up x y z angle a hither h resolution w h aperture A focal F`
     pub(super) fn camera(&mut self, kw: &Token) -> Result<(), ParseError> {
         self.saw_p3f_2025 = true;
@@ -311,7 +418,7 @@ impl Parser<'_> {
 mod tests {
     use crate::math::Vec3;
     use crate::nff::{parse_format, Format};
-    use crate::scene::Scene;
+    use crate::scene::{Integrator, Scene};
 
     fn p3f(src: &str) -> Scene {
         parse_format(src.as_bytes(), Format::P3f, &Default::default()).unwrap()
@@ -333,6 +440,175 @@ mod tests {
         // Each triangle keeps the line of its indices.
         let lines: Vec<u32> = s.mesh_triangles.iter().map(|t| t.line).collect();
         assert_eq!(lines, vec![7, 8, 13]);
+    }
+
+    fn p3f_err(src: &str) -> crate::nff::ParseError {
+        parse_format(src.as_bytes(), Format::P3f, &Default::default()).expect_err("should fail")
+    }
+
+    const CAMERA: &str = "camera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40\n";
+
+    #[test]
+    fn fourteen_material_numbers_end_in_the_emitted_radiance() {
+        let s = p3f(&format!(
+            "{CAMERA}mat 1 1 1 1 1 1 1 0 10 0 1 2 3 4\ns 0 0 0 1\n\
+             f 1 1 1 1 1 1 1 0 10 0 1\ns 0 0 0 1\n"
+        ));
+        assert_eq!(s.materials[0].emission, Vec3::new(2.0, 3.0, 4.0));
+        assert_eq!(s.materials[1].emission, Vec3::ZERO);
+        assert_eq!(s.materials[0].ior, 1.0);
+        assert_eq!(
+            s.materials.iter().map(|m| m.roughness).collect::<Vec<_>>(),
+            [0.0, 0.0]
+        );
+    }
+
+    #[test]
+    fn a_twelfth_or_thirteenth_number_is_where_a_keyword_should_be() {
+        // Line 2, the twelfth number at column 27 (after `mat ` and eleven
+        // one-character numbers); one or two extra numbers, at the end or before an entity.
+        for tail in ["0.3", "0.3 0.4", "0.3\ns 0 0 0 1", "0.3 0.4\ns 0 0 0 1"] {
+            let e = p3f_err(&format!("{CAMERA}mat 1 1 1 1 1 1 1 0 9 0 1 {tail}\n"));
+            assert_eq!((e.line, e.column), (2, 27), "{tail}: {e}");
+            assert!(e.to_string().contains("expected a keyword"), "{tail}: {e}");
+            assert!(e.to_string().contains("found the number \"0.3\""), "{tail}: {e}");
+        }
+        // A fifteenth number after the emission: there.
+        let e = p3f_err(&format!("{CAMERA}mat 1 1 1 1 1 1 1 0 9 0 1 2 3 4 5\n"));
+        assert_eq!((e.line, e.column), (2, 33), "{e}");
+    }
+
+    #[test]
+    fn roughness_is_an_optional_named_suffix_within_zero_and_one() {
+        let s = p3f(&format!(
+            "{CAMERA}mat 1 1 1 1 1 1 1 0 10 0 1 roughness 0.25\ns 0 0 0 1\n\
+             mat 1 1 1 1 1 1 1 0 10 1 1.5 5 5 5 roughness 1\ns 0 0 0 1\n"
+        ));
+        assert_eq!(s.materials[0].roughness, 0.25);
+        assert_eq!(s.materials[0].emission, Vec3::ZERO);
+        assert_eq!(
+            (s.materials[1].roughness, s.materials[1].emission),
+            (1.0, Vec3::splat(5.0))
+        );
+        // Out of range: at the value (line 2: `f`, 11 numbers, `roughness`).
+        for bad in ["-0.1", "1.5"] {
+            let e = p3f_err(&format!("{CAMERA}f 1 1 1 1 1 1 1 0 9 0 1 roughness {bad}\n"));
+            assert_eq!((e.line, e.column), (2, 35), "{e}");
+            assert!(e.to_string().contains("outside [0, 1]"), "{e}");
+        }
+        let e = p3f_err(&format!("{CAMERA}f 1 1 1 1 1 1 1 0 9 0 1 roughness\ns 0 0 0 1\n"));
+        assert_eq!((e.line, e.column), (3, 1), "{e}");
+        assert!(e.to_string().contains("material roughness"), "{e}");
+        // Before the emission it is no suffix: the emission's numbers are stray.
+        let e = p3f_err(&format!("{CAMERA}f 1 1 1 1 1 1 1 0 9 0 1 roughness 0 1 1 1\n"));
+        assert_eq!((e.line, e.column), (2, 37), "{e}");
+    }
+
+    #[test]
+    fn nff_materials_have_neither_emission_nor_roughness() {
+        let s = crate::nff::parse("f 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
+        assert_eq!(
+            (s.materials[0].emission, s.materials[0].roughness),
+            (Vec3::ZERO, 0.0)
+        );
+        let e = crate::nff::parse("f 1 1 1 1 0 1 0 1 roughness 0.5\n").unwrap_err();
+        assert_eq!((e.line, e.column), (1, 19));
+        assert!(e.to_string().contains("unknown keyword \"roughness\""), "{e}");
+    }
+
+    #[test]
+    fn a_moving_sphere_keeps_its_two_centres_and_times() {
+        let s = p3f(&format!(
+            "{CAMERA}f 1 1 1 1 1 1 1 0 9 0 1\nsm 1 2 3  4 6 8  -0.5  0.25 1.25\n"
+        ));
+        let m = s.moving_spheres[0];
+        assert_eq!(
+            (m.center0, m.center1),
+            (Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 6.0, 8.0))
+        );
+        assert_eq!((m.radius, m.time0, m.time1, m.line), (-0.5, 0.25, 1.25, 3));
+        // One unit of time apart: the velocity is the displacement; centres at the
+        // times given, half way and beyond (0.5 before t0: half a step back).
+        assert_eq!(m.velocity(), Vec3::new(3.0, 4.0, 5.0));
+        assert_eq!(m.center_at(0.25), m.center0);
+        assert_eq!(m.center_at(1.25), m.center1);
+        assert_eq!(m.center_at(0.75), Vec3::new(2.5, 4.0, 5.5));
+        assert_eq!(m.center_at(-0.25), Vec3::new(-0.5, 0.0, 0.5));
+        assert!(s.spheres.is_empty());
+        assert_eq!(s.primitive_count(), 1);
+        assert!(s.kind_counts().contains(&("moving_spheres", 1)));
+    }
+
+    #[test]
+    fn a_moving_sphere_needs_two_times_and_a_radius() {
+        let e = p3f_err(&format!("{CAMERA}sm 0 0 0 1 1 1 0.5 2 2\n"));
+        assert_eq!((e.line, e.column), (2, 22), "{e}");
+        assert!(e.to_string().contains("times must differ"), "{e}");
+        // Far apart in space, close in time: the velocity overflows.
+        let e = p3f_err(&format!("{CAMERA}sm -3e38 0 0 3e38 0 0 1 0 1e-30\n"));
+        assert_eq!((e.line, e.column), (2, 27), "{e}");
+        let s = p3f(&format!("{CAMERA}sm 0 0 0 1 1 1 0 0 1\n"));
+        assert!(s.moving_spheres.is_empty());
+        let messages: Vec<&str> = s.warnings.iter().map(|w| w.message.as_str()).collect();
+        assert!(
+            messages.contains(&"moving sphere of radius 0 skipped"),
+            "{messages:?}"
+        );
+        let e = crate::nff::parse("sm 0 0 0 1 1 1 0.5 0 1\n").unwrap_err();
+        assert!(e.to_string().contains("unknown keyword \"sm\""), "{e}");
+    }
+
+    #[test]
+    fn the_shutter_is_open_from_zero_to_one_unless_the_file_says() {
+        let s = p3f(&format!("{CAMERA}s 0 0 0 1\n"));
+        assert_eq!((s.shutter, s.shutter_interval()), (None, [0.0, 1.0]));
+        let s = p3f(&format!("{CAMERA}shutter 0.25 0.5\ns 0 0 0 1\n"));
+        assert_eq!(
+            (s.shutter, s.shutter_interval()),
+            (Some([0.25, 0.5]), [0.25, 0.5])
+        );
+        // An instant is a shutter too.
+        assert_eq!(p3f(&format!("{CAMERA}shutter 3 3\n")).shutter, Some([3.0, 3.0]));
+        let e = p3f_err(&format!("{CAMERA}shutter 1 0.5\n"));
+        assert_eq!((e.line, e.column), (2, 11), "{e}");
+        let e = p3f_err(&format!("{CAMERA}shutter 0 1e39\n"));
+        assert!(e.to_string().contains("finite"), "{e}");
+        // A shutter and an integrator do not make a 2019 file a 2025 one.
+        let s = p3f("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40\nshutter 0 2\nintegrator path\n");
+        assert_eq!(s.dialect, crate::scene::Dialect::P3f2019);
+    }
+
+    #[test]
+    fn the_integrator_is_whitted_or_path() {
+        assert_eq!(
+            p3f(&format!("{CAMERA}integrator whitted\n")).integrator,
+            Some(Integrator::Whitted)
+        );
+        assert_eq!(
+            p3f(&format!("{CAMERA}integrator path\n")).integrator,
+            Some(Integrator::Path)
+        );
+        assert_eq!(p3f(CAMERA).integrator, None);
+        let e = p3f_err(&format!("{CAMERA}integrator bdpt\n"));
+        assert_eq!((e.line, e.column), (2, 12), "{e}");
+        assert!(e.to_string().contains("'whitted' or 'path'"), "{e}");
+    }
+
+    #[test]
+    fn a_moving_sphere_is_bounded_over_the_shutter() {
+        // Centre (0, 0, 0) at t = 0 to (4, 0, 0) at t = 2, radius 1: over the default
+        // shutter [0, 1] it reaches x = 2; over [-1, 2], from x = -2 to x = 4.
+        let sm = "sm 0 0 0 4 0 0 1 0 2\n";
+        let b = p3f(&format!("{CAMERA}{sm}")).bounds();
+        assert_eq!(
+            (b.min, b.max),
+            (Vec3::new(-1.0, -1.0, -1.0), Vec3::new(3.0, 1.0, 1.0))
+        );
+        let b = p3f(&format!("{CAMERA}shutter -1 2\n{sm}")).bounds();
+        assert_eq!(
+            (b.min, b.max),
+            (Vec3::new(-3.0, -1.0, -1.0), Vec3::new(5.0, 1.0, 1.0))
+        );
     }
 
     #[test]

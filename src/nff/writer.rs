@@ -9,18 +9,22 @@
 //! `BufWriter`: the writer makes many small writes.
 //!
 //! P3F is written in the 2024/25 dialect whatever the scene was read from:
-//! `spp`, `accel`, `bclr`, `env`, `camera` (with `aperture` and `focal`), `light
-//! punctual` and `light quad` (a 2019 `al` becomes the `light quad` with its corner,
-//! edges and grid), `mat`, `s c p pp pl`, `box` and `mesh`. Reading it back gives
-//! the same scene but for its dialect. NFF has no meshes: written as NFF, a mesh's
-//! triangles become `p 3` polygons (and NFF drops what it cannot say: lens, area
-//! lights, specular colours, skybox, `spp`).
+//! `spp`, `accel`, `shutter`, `integrator`, `bclr`, `env`, `camera` (with
+//! `aperture` and `focal`), `light punctual` and `light quad` (a 2019 `al` becomes
+//! the `light quad` with its corner, edges and grid), `mat` (with the emission when
+//! it is not zero and `roughness R` when R is not zero), `s sm c p pp pl`, `box` and
+//! `mesh`. Reading it back gives the same scene but for its dialect. NFF has no
+//! meshes and no time: written as NFF, a mesh's triangles become `p 3` polygons and
+//! a moving sphere the `s` where it stands when the shutter opens (and NFF drops
+//! what it cannot say: lens, area lights, specular colours, emission, roughness,
+//! skybox, `spp`, `shutter`, `integrator`).
 
 use std::io::{self, Write};
 
+use super::p3f::ROUGHNESS;
 use super::Format;
 use crate::math::Vec3;
-use crate::scene::{Accel, Dialect, Scene, View};
+use crate::scene::{Accel, Dialect, Material, Scene, View};
 
 /// A number in shortest round-trip form; exponent form below 1e-4 and from 1e9 on,
 /// where plain decimals would be long.
@@ -52,16 +56,18 @@ enum Kind {
     Polygon,
     Patch,
     Sphere,
+    MovingSphere,
     Cone,
     Box,
     Mesh,
 }
 
-const KINDS: [Kind; 7] = [
+const KINDS: [Kind; 8] = [
     Kind::Plane,
     Kind::Polygon,
     Kind::Patch,
     Kind::Sphere,
+    Kind::MovingSphere,
     Kind::Cone,
     Kind::Box,
     Kind::Mesh,
@@ -74,6 +80,7 @@ fn line_of(scene: &Scene, kind: Kind, i: usize) -> Option<u32> {
         Kind::Polygon => scene.polygons.get(i).map(|p| p.line),
         Kind::Patch => scene.patches.get(i).map(|p| p.line),
         Kind::Sphere => scene.spheres.get(i).map(|p| p.line),
+        Kind::MovingSphere => scene.moving_spheres.get(i).map(|p| p.line),
         Kind::Cone => scene.cones.get(i).map(|p| p.line),
         Kind::Box => scene.boxes.get(i).map(|p| p.line),
         Kind::Mesh => scene.meshes.get(i).map(|p| p.line),
@@ -139,6 +146,12 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
             };
             writeln!(w, "accel {name}")?;
         }
+        if let Some([open, close]) = scene.shutter {
+            writeln!(w, "shutter {} {}", N(open), N(close))?;
+        }
+        if let Some(i) = scene.integrator {
+            writeln!(w, "integrator {}", i.name())?;
+        }
         writeln!(w, "bclr {}", V(scene.background))?;
         if let Some(e) = &scene.environment {
             writeln!(w, "env {}", e.folder)?;
@@ -172,7 +185,7 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
     // Compared by value, bit for bit: two table entries with equal values (a parsed
     // `f A`, `f B`, `f A` whose `B` objects were all skipped) are one material line,
     // so writing a scene read back from this text gives this text again.
-    let mut current: Option<[u32; 11]> = None;
+    let mut current: Option<[u32; 15]> = None;
     let mut material = |w: &mut dyn Write, m: u32| -> io::Result<()> {
         let f = &scene.materials[m as usize];
         let bits = [
@@ -187,21 +200,15 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
             f.shine,
             f.t,
             f.ior,
+            f.emission.x,
+            f.emission.y,
+            f.emission.z,
+            f.roughness,
         ]
         .map(f32::to_bits);
         if current != Some(bits) {
             if p3f {
-                writeln!(
-                    w,
-                    "mat {} {} {} {} {} {} {}",
-                    V(f.color),
-                    N(f.kd),
-                    V(f.specular),
-                    N(f.ks),
-                    N(f.shine),
-                    N(f.t),
-                    N(f.ior)
-                )?;
+                writeln!(w, "{}", p3f_material(f))?;
             } else {
                 writeln!(
                     w,
@@ -255,6 +262,25 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
                 let s = &scene.spheres[i];
                 material(w, s.material)?;
                 writeln!(w, "s {} {}", V(s.center), N(s.radius))?;
+            }
+            Kind::MovingSphere if p3f => {
+                let s = &scene.moving_spheres[i];
+                material(w, s.material)?;
+                writeln!(
+                    w,
+                    "sm {}  {}  {}  {} {}",
+                    V(s.center0),
+                    V(s.center1),
+                    N(s.radius),
+                    N(s.time0),
+                    N(s.time1)
+                )?;
+            }
+            Kind::MovingSphere => {
+                let s = &scene.moving_spheres[i];
+                material(w, s.material)?;
+                let [open, _] = scene.shutter_interval();
+                writeln!(w, "s {} {}", V(s.center_at(open)), N(s.radius))?;
             }
             Kind::Cone => {
                 let c = &scene.cones[i];
@@ -315,6 +341,28 @@ fn write_in(scene: &Scene, format: Format, w: &mut impl Write) -> io::Result<()>
     Ok(())
 }
 
+/// A P3F `mat` line: the 11 numbers, the emission unless it is zero, the
+/// roughness suffix unless it is zero.
+fn p3f_material(f: &Material) -> String {
+    let mut line = format!(
+        "mat {} {} {} {} {} {} {}",
+        V(f.color),
+        N(f.kd),
+        V(f.specular),
+        N(f.ks),
+        N(f.shine),
+        N(f.t),
+        N(f.ior)
+    );
+    if f.emission != Vec3::ZERO {
+        line += &format!(" {}", V(f.emission));
+    }
+    if f.roughness != 0.0 {
+        line += &format!(" {ROUGHNESS} {}", N(f.roughness));
+    }
+    line
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -361,6 +409,35 @@ mod tests {
         );
         let (_, second) = round_trip(&first);
         assert_eq!(first, second);
+    }
+
+    #[test]
+    fn p3f_additions_are_spelled_back_and_nff_keeps_a_moving_sphere_where_the_shutter_opens() {
+        let src = "shutter 0.5 2\nintegrator path\ncamera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40\n\
+                   mat 1 1 1 1 1 1 1 0 10 0 1 4 5 6 roughness 0.25\nsm 0 0 0 2 4 6 0.5 0 1\n\
+                   mat 1 1 1 1 1 1 1 0 10 0 1\ns 1 1 1 1\n";
+        let scene = crate::nff::parse_format(src.as_bytes(), Format::P3f, &Default::default()).unwrap();
+        let mut p3f = Vec::new();
+        write_p3f(&scene, &mut p3f).unwrap();
+        let p3f = String::from_utf8(p3f).unwrap();
+        for line in [
+            "shutter 0.5 2",
+            "integrator path",
+            "mat 1 1 1 1 1 1 1 0 10 0 1 4 5 6 roughness 0.25",
+            "sm 0 0 0  2 4 6  0.5  0 1",
+            "mat 1 1 1 1 1 1 1 0 10 0 1",
+        ] {
+            assert!(p3f.lines().any(|l| l == line), "{line:?} not in\n{p3f}");
+        }
+        // NFF: the sphere at t = 0.5 (half way from (0, 0, 0) to (2, 4, 6)), no
+        // shutter, integrator, emission or roughness.
+        let mut nff = Vec::new();
+        write_nff(&scene, &mut nff).unwrap();
+        let nff = String::from_utf8(nff).unwrap();
+        assert!(nff.lines().any(|l| l == "s 1 2 3 0.5"), "{nff}");
+        let back = parse(&nff).unwrap();
+        assert_eq!(back.spheres.len(), 2);
+        assert!(!nff.contains("shutter") && !nff.contains("integrator") && !nff.contains("rough"));
     }
 
     #[test]

@@ -206,6 +206,7 @@ impl LaneRays {
             origin: v(&self.origin),
             dir: v(&self.dir),
             inv_dir: v(&self.inv_dir),
+            time: 0.0,
         }
     }
 }

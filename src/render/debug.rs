@@ -295,6 +295,7 @@ impl fmt::Display for Weight {
 pub fn kind_name(k: SourceKind, dialect: Dialect) -> &'static str {
     match k {
         SourceKind::Sphere => "sphere (s)",
+        SourceKind::MovingSphere => "moving sphere (sm)",
         SourceKind::Polygon => "polygon (p)",
         SourceKind::Patch => "patch (pp)",
         SourceKind::Cone => "cone (c)",

@@ -309,6 +309,7 @@ mod tests {
             shine: 20.0,
             t: 1.0,
             ior: 1.5,
+            ..Material::DEFAULT
         };
         let n = Vec3::new(0.0, 1.0, 0.0);
         let s = Model::P3f.secondary(&glass, -n, n, true);

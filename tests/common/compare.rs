@@ -45,6 +45,10 @@ pub fn canonical(scene: &Scene) -> Scene {
         remap(&mut p.material);
         p.line = 0;
     }
+    for p in &mut s.moving_spheres {
+        remap(&mut p.material);
+        p.line = 0;
+    }
     for p in &mut s.cones {
         remap(&mut p.material);
         p.line = 0;
@@ -80,9 +84,17 @@ pub fn same_scene(a: &Scene, b: &Scene) -> Result<(), String> {
     if a.background != b.background {
         return Err(format!("background: {:?} vs {:?}", a.background, b.background));
     }
+    if (a.shutter, a.integrator) != (b.shutter, b.integrator) {
+        return Err(format!(
+            "shutter, integrator: {:?} vs {:?}",
+            (a.shutter, a.integrator),
+            (b.shutter, b.integrator)
+        ));
+    }
     let diff = first_difference("lights", &a.lights, &b.lights)
         .or_else(|| first_difference("materials", &a.materials, &b.materials))
         .or_else(|| first_difference("spheres", &a.spheres, &b.spheres))
+        .or_else(|| first_difference("moving_spheres", &a.moving_spheres, &b.moving_spheres))
         .or_else(|| first_difference("cones", &a.cones, &b.cones))
         .or_else(|| first_difference("polygons", &a.polygons, &b.polygons))
         .or_else(|| first_difference("polygon_vertices", &a.polygon_vertices, &b.polygon_vertices))

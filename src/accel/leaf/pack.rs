@@ -87,12 +87,14 @@ pub(in crate::accel) use with_kinds;
 
 /// The kind of block `p` is tested in (see [`Pack`]): triangles, and spheres
 /// and (non-degenerate) cones visible from outside, pack four to a block; everything
-/// else is tested alone.
+/// else is tested alone, moving spheres among them (where they are depends on each
+/// ray's time, which the blocks' broadcast rays do not carry).
 pub(in crate::accel) fn pack_of(p: &Primitive) -> Pack {
     match p.shape {
         Shape::Triangle(_) => Pack::Triangle,
         Shape::Sphere(s) if !s.inside => Pack::Sphere,
         Shape::Cone(c) if !c.inside && c.length > 0.0 => Pack::Cone,
+        Shape::MovingSphere(_) => Pack::Alone,
         _ => Pack::Alone,
     }
 }

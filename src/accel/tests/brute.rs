@@ -1,5 +1,6 @@
 //! Closest hit and occlusion agree with the brute-force scan: random scenes
-//! (proptest), deep trees, split cones, trees of fewer leaf kinds.
+//! (proptest), deep trees, split cones, trees of fewer leaf kinds, moving spheres at
+//! random ray times.
 
 use super::*;
 
@@ -225,6 +226,86 @@ fn deep_trees_of_fewer_kinds_agree_with_brute_force() {
         assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
         assert_eq!(bvh.kinds, kinds);
         assert_agrees_with_brute_force(&bvh, &mut point);
+    }
+}
+
+/// Moving spheres (tested alone, at each ray's time) among still spheres and
+/// triangles, their own times inside a shutter of [0.2, 0.9]: rays at random times,
+/// inside the shutter and outside it (where the spheres stand at its ends), single,
+/// in packets of mixed times and for occlusion, find what the scan finds.
+#[test]
+fn moving_spheres_agree_with_brute_force_at_any_time() {
+    use crate::geometry::SourceKind;
+    use crate::scene::MovingSphere;
+    let mut time = uniform(0x3c6e_f372_fe94_f82b);
+    let mut uniform = uniform(0xbb67_ae85_84ca_a73b);
+    let mut next = move || uniform() * 2.0 - 1.0;
+    let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
+    let spheres: Vec<(Vec3, f32)> = (0..300).map(|_| (point(20.0), 0.3)).collect();
+    let tris: Vec<[Vec3; 3]> = (0..1000)
+        .map(|_| {
+            let a = point(20.0);
+            [a, a + point(0.8), a + point(0.8)]
+        })
+        .collect();
+    let mut scene = scene_with(&spheres, &tris);
+    scene.shutter = Some([0.2, 0.9]);
+    for i in 0..600 {
+        let center0 = point(20.0);
+        // Short and long paths; every fifth sphere inside-only.
+        let path = point(if i % 3 == 0 { 6.0 } else { 1.0 });
+        scene.moving_spheres.push(MovingSphere {
+            center0,
+            center1: center0 + path,
+            radius: if i % 5 == 0 { -0.4 } else { 0.4 },
+            time0: 0.4,
+            time1: 0.6,
+            material: 0,
+            line: 1,
+        });
+    }
+    let bvh = bvh_of(&scene);
+    assert_eq!(bvh.kinds, leaf_kinds::ALL);
+    // No moving sphere in a block of still ones.
+    let blocked = bvh.sphere4.iter().flat_map(|b| b.prim).filter(|&p| p != u32::MAX);
+    assert!(blocked
+        .map(|p| bvh.primitive(p).kind)
+        .all(|k| k == SourceKind::Sphere));
+    let (mut moving_hits, mut rays) = (0, Vec::new());
+    for _ in 0..4000 {
+        let origin = point(25.0);
+        let r = Ray::with_time(origin, (point(15.0) - origin).normalize(), time() * 2.0 - 0.5);
+        let fast = bvh.closest_hit(&r, f32::INFINITY);
+        assert_eq!(fast, bvh.closest_hit_linear(&r, f32::INFINITY), "time {}", r.time);
+        let moving = fast.is_some_and(|(_, p)| bvh.primitive(p).kind == SourceKind::MovingSphere);
+        moving_hits += usize::from(moving);
+        let occluded: Vec<bool> = [2.0, 10.0, f32::INFINITY]
+            .iter()
+            .map(|&t_max| {
+                let any = bvh.closest_hit_linear(&r, t_max).is_some();
+                assert_eq!(bvh.occluded(&r, t_max), any);
+                any
+            })
+            .collect();
+        assert_portable_copy::<{ leaf_kinds::ALL }>(&bvh, &r, fast, &occluded);
+        rays.push(r);
+    }
+    assert!(
+        moving_hits > 300,
+        "only {moving_hits} of 4000 rays hit a moving sphere: the test would be too weak"
+    );
+    // Packets of eight rays from one eye with mixed times: each ray's own hit.
+    let eye = Vec3::new(0.0, 0.0, 40.0);
+    let fan: Vec<Ray> = rays
+        .iter()
+        .map(|r| Ray::with_time(eye, (r.origin * 0.6 - eye).normalize(), r.time))
+        .collect();
+    for packet in fan.chunks(crate::accel::PACKET) {
+        let mut out = vec![None; packet.len()];
+        bvh.closest_hit_packet(packet, f32::INFINITY, &mut out);
+        for (r, got) in packet.iter().zip(&out) {
+            assert_eq!(*got, bvh.closest_hit_linear(r, f32::INFINITY), "time {}", r.time);
+        }
     }
 }
 

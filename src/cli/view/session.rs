@@ -306,16 +306,7 @@ impl Session {
 
 /// Each primitive kind's printed name in `dialect`, keyed by its JSON name.
 fn kinds(dialect: Dialect) -> serde_json::Value {
-    let all = [
-        SourceKind::Sphere,
-        SourceKind::Polygon,
-        SourceKind::Patch,
-        SourceKind::Cone,
-        SourceKind::Plane,
-        SourceKind::Box,
-        SourceKind::Mesh,
-    ];
-    let map = all.iter().map(|&k| {
+    let map = SourceKind::ALL.iter().map(|&k| {
         let key = serde_json::to_value(k)
             .ok()
             .and_then(|v| v.as_str().map(String::from));
