@@ -160,6 +160,18 @@ proptest! {
     }
 }
 
+/// Found by the property test above: shine 1e30, where a highlight cosine that
+/// rounds to just above 1 made (n.h)^shine infinite and the pixel black.
+#[test]
+fn a_highlight_cosine_rounding_above_one_stays_finite() {
+    let src = "v from 100000000000000 100000000000000 100000000000000 at 93603710000000 -6043547000000 0 \
+               up 0 1 0 angle 60 hither 0 resolution 6 6\nb 0.2 0.3 0.4\nl 0 1000000000000000 0\n\
+               l 4000000000000000 4000000000000000 4000000000000000 0.9 0.8 0.7\n\
+               f 0.1 0.1 1 0.1 0.91454345 1000000000000000000000000000000 0 0\ns 0 0 0 1000000000000000\n";
+    let (img, _) = render_src(src, 6, 8, Sampling::PixelCenters);
+    assert_eq!(all_positive_and_finite(&img), Ok(()));
+}
+
 /// Found by the `parse_render` fuzz target: Ks = 7.8e19 makes corners of about 1e38,
 /// whose four-corner sum in the SPD protocol overflowed to infinity.
 #[test]

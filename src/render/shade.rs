@@ -93,10 +93,11 @@ impl Lighting {
 #[inline]
 pub fn local(m: &Material, diffuse: Vec3, ns: Vec3, l: Vec3, view: Vec3) -> Vec3 {
     let lambert = ns.dot(l).max(0.0);
-    // A negative exponent would turn a zero cosine into infinity.
+    // A negative exponent would turn a zero cosine into infinity, and a cosine that
+    // rounds above 1 a huge exponent (shine 1e30) into infinity too.
     let phong = if m.ks > 0.0 {
         let h = (l + view).normalize();
-        m.ks * ns.dot(h).max(0.0).powf(m.shine.max(0.0))
+        m.ks * ns.dot(h).clamp(0.0, 1.0).powf(m.shine.max(0.0))
     } else {
         0.0
     };
