@@ -284,3 +284,42 @@ fn balls_low_mask_agrees_with_the_course_picture() {
         classifier: Classifier::DeepShadow,
     }]);
 }
+
+/// `2025/balls_low.p3f` against the course's full Whitted picture, colour for colour:
+/// the mean absolute difference of each channel, in levels of 255. With the
+/// Blinn-Phong highlight the course's texts name it was 4.96/4.19/5.11; Phong's
+/// narrower highlight, which the pictures have, gives 3.53/2.84/4.15. The blue
+/// channel stays above 4: the reference was compressed with loss (ringing around
+/// every shadow edge on the floor, half of the blue difference) and its highlights
+/// are weaker than Phong's at the file's Ks (see docs/p3f.md).
+#[test]
+fn balls_low_colours_agree_with_the_course_picture() {
+    let Some(shared) = shared() else { return };
+    let case = Case {
+        name: "p3f_balls_low_colours",
+        scene: "p3f/2025/balls_low.p3f".into(),
+        reference: "p3f/balls_low-whitted.png".into(),
+        spd: false,
+        classifier: Classifier::DeepShadow,
+    };
+    let dir = common::scratch_dir("golden", case.name);
+    let ours = render(&shared, &case, &dir);
+    let reference = image::open(shared.join("reference").join(&case.reference))
+        .unwrap()
+        .to_rgb8();
+    assert_eq!(ours.dimensions(), reference.dimensions());
+    let mut sum = [0u64; 3];
+    for (a, b) in ours.pixels().zip(reference.pixels()) {
+        for c in 0..3 {
+            sum[c] += (a[c] as i64 - b[c] as i64).unsigned_abs();
+        }
+    }
+    let n = (ours.width() * ours.height()) as f64;
+    let mad = sum.map(|s| s as f64 / n);
+    eprintln!("balls_low against the course's picture: mean absolute difference {mad:.2?}");
+    let bound = [4.0, 4.0, 4.2];
+    assert!(
+        mad.iter().zip(bound).all(|(&m, b)| m <= b),
+        "mean absolute difference per channel {mad:.2?}, bounds {bound:?}"
+    );
+}

@@ -234,7 +234,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             return LightOutcome::Shadowed;
         }
         let l = to_light / to_light.length();
-        LightOutcome::Lit(intensity.mul_elem(local(at.m, at.diffuse, at.ns, l, at.view)))
+        LightOutcome::Lit(intensity.mul_elem(local::<M>(at.m, at.diffuse, at.ns, l, at.view)))
     }
 }
 
