@@ -288,10 +288,11 @@ fn balls_low_mask_agrees_with_the_course_picture() {
 /// `2025/balls_low.p3f` against the course's full Whitted picture, colour for colour:
 /// the mean absolute difference of each channel, in levels of 255. With the
 /// Blinn-Phong highlight the course's texts name it was 4.96/4.19/5.11; Phong's
-/// narrower highlight, which the pictures have, gives 3.53/2.84/4.15. The blue
-/// channel stays above 4: the reference was compressed with loss (ringing around
-/// every shadow edge on the floor, half of the blue difference) and its highlights
-/// are weaker than Phong's at the file's Ks (see docs/p3f.md).
+/// narrower highlight, which the pictures have, gives 3.53/2.84/4.15, and the course's
+/// clamp of what each reflected ray returns 2.25/1.90/4.13. The blue channel stays
+/// above 4: the reference was compressed with loss (ringing around every shadow edge
+/// on the floor, half of the blue difference) and its highlights are weaker than
+/// Phong's at the file's Ks (see docs/p3f.md).
 #[test]
 fn balls_low_colours_agree_with_the_course_picture() {
     let Some(shared) = shared() else { return };
@@ -317,7 +318,7 @@ fn balls_low_colours_agree_with_the_course_picture() {
     let n = (ours.width() * ours.height()) as f64;
     let mad = sum.map(|s| s as f64 / n);
     eprintln!("balls_low against the course's picture: mean absolute difference {mad:.2?}");
-    let bound = [4.0, 4.0, 4.2];
+    let bound = [2.5, 2.5, 4.2];
     assert!(
         mad.iter().zip(bound).all(|(&m, b)| m <= b),
         "mean absolute difference per channel {mad:.2?}, bounds {bound:?}"

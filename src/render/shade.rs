@@ -28,7 +28,11 @@
 //! have intensity `sqrt(n) / (2n)` for n lights (`A = 1` without lights).
 //!
 //! **P3F (the course's)**: lights have their colours as intensities and there is no
-//! ambient term (`A = 0`). An opaque surface (`T = 0`) with `Ks > 0` spawns a mirror
+//! ambient term (`A = 0`). The colour a secondary ray returns is clamped to 1 in each
+//! channel before the hit that spawned it weights it, as the course's template does:
+//! its pictures show the over-exposed yellow floor reflected pale in the spheres of
+//! `2025/balls_low.p3f`, and the clamp takes the mean difference from the course's
+//! Whitted picture from 3.53/2.84/4.15 to 2.25/1.90/4.13 levels of 255. An opaque surface (`T = 0`) with `Ks > 0` spawns a mirror
 //! ray of weight `Ks * S`. A transmissive one (`T > 0`) spawns a mirror ray of weight
 //! `R * S` and a refracted ray of weight `(1 - R) * T * C` — the diffuse colour
 //! absorbs, as the course's glass does — where `R` is Schlick's approximation of the
@@ -132,6 +136,10 @@ pub trait Rules {
     /// `l` seen from unit direction `view` on the unit shading normal `ns` (see the
     /// module docs; not clamped).
     fn highlight_cosine(ns: Vec3, l: Vec3, view: Vec3) -> f32;
+
+    /// The colour a secondary ray returns to the hit that spawned it, given the
+    /// colour at its end (see the module docs).
+    fn returned(color: Vec3) -> Vec3;
 }
 
 /// [`Model::Spd`]'s rules.
@@ -157,6 +165,12 @@ impl Rules for SpdRules {
     #[inline(always)]
     fn highlight_cosine(ns: Vec3, l: Vec3, view: Vec3) -> f32 {
         ns.dot((l + view).normalize())
+    }
+
+    /// As it is: the SPD's rules clamp only the pixel.
+    #[inline(always)]
+    fn returned(color: Vec3) -> Vec3 {
+        color
     }
 
     #[inline(always)]
@@ -193,6 +207,12 @@ impl Rules for P3fRules {
     #[inline(always)]
     fn highlight_cosine(ns: Vec3, l: Vec3, view: Vec3) -> f32 {
         (ns * (2.0 * ns.dot(l)) - l).dot(view)
+    }
+
+    /// Clamped to 1 in each channel, as the course's pictures show it.
+    #[inline(always)]
+    fn returned(color: Vec3) -> Vec3 {
+        color.min(Vec3::ONE)
     }
 
     #[inline(always)]

@@ -142,10 +142,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
 
         if depth >= self.max_depth {
-            if R::ENABLED {
-                rec.done(color);
-            }
-            return color;
+            return Self::done(depth, color, rec);
         }
         let secondary = M::secondary(m, ray.dir, n, entering);
         if let Some((dir, weight)) = secondary.refraction {
@@ -166,6 +163,14 @@ impl<'a, M: Rules> Whitted<'a, M> {
             }
             color += self.trace(&r, depth + 1, id, ctx, rec).mul_elem(weight);
         }
+        Self::done(depth, color, rec)
+    }
+
+    /// The colour a ray of depth `depth` returns, `color` as the rules return it
+    /// from a secondary ray ([`Rules::returned`]), reported to `rec`.
+    #[inline(always)]
+    fn done<R: Recorder>(depth: u32, color: Vec3, rec: &mut R) -> Vec3 {
+        let color = if depth > 1 { M::returned(color) } else { color };
         if R::ENABLED {
             rec.done(color);
         }
