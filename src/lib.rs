@@ -6,7 +6,8 @@
 //! the images it names);
 //! [`geometry::build_geometry`] converts it into render-time primitives;
 //! [`accel::Bvh::new`] builds the hierarchy; [`render::render`] traces the image;
-//! [`image`] encodes it. [`gen`] makes the SPD's classic scenes, at sizes up to 10 million primitives.
+//! [`image`] encodes it; [`output`] writes files whole or not at all. [`gen`] makes
+//! the SPD's classic scenes, at sizes up to 10 million primitives.
 //! [`PreparedScene`] owns a scene and its BVH, built once, and renders it with
 //! checked options (the one object the Python bindings hold).
 //! [`render::render_region`] traces a crop with exactly the full render's pixels,
@@ -37,6 +38,7 @@ pub mod limits;
 pub mod load;
 pub mod math;
 pub mod nff;
+pub mod output;
 pub mod prepared;
 pub mod render;
 pub mod scene;
