@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
+use nffrt::image::ImageFormat;
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
@@ -61,6 +62,9 @@ fn size_table() -> String {
 
 /// Runs `nffrt gen`.
 pub fn run(args: GenArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.output {
+        refuse_image_name(path)?;
+    }
     let size = args.size.unwrap_or(args.name.default_size());
     let scene = generate(args.name, size)
         .map_err(|e| CliError::usage(format!("invalid value '{size}' for '--size <N>': {e}")))?;
@@ -68,6 +72,18 @@ pub fn run(args: GenArgs) -> Result<(), CliError> {
         None => write_stdout(&scene),
         Some(p) if p == Path::new("-") => write_stdout(&scene),
         Some(p) => write_file(&scene, p),
+    }
+}
+
+/// Refuses an output named like an image: `gen` writes scene text, and a picture
+/// of that name is more likely than a scene to be what the user meant to keep.
+fn refuse_image_name(path: &Path) -> Result<(), CliError> {
+    match ImageFormat::from_extension(path) {
+        Some(_) => Err(CliError::usage(format!(
+            "-o {}: gen writes NFF scene text, not an image; name the output .nff",
+            path.display()
+        ))),
+        None => Ok(()),
     }
 }
 

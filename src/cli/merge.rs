@@ -6,12 +6,12 @@
 //! must agree on both, lie inside the image, not overlap and cover it; the merged PNG
 //! carries only the text chunks of a full render.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::image_out::{display_name, format_of, Destination};
-use super::output::brief;
+use super::output::{brief, refuse_overwriting, Named};
 use super::CliError;
 use nffrt::image::decode_png;
 use nffrt::image::tiles::{
@@ -41,6 +41,8 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
+    let inputs: Vec<(&Path, &str)> = args.tiles.iter().map(|t| (t.as_path(), "the tile")).collect();
+    refuse_overwriting(&[Named::flag("-o", &args.output)], &inputs)?;
     let tiles = args.tiles.iter().map(read_tile).collect::<Result<Vec<_>, _>>()?;
     let (w, h, rgb) = merge_tiles(&tiles).map_err(CliError::scene)?;
     let output = Destination::create(&args.output)?;

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use nffrt::output::AtomicFile;
 
+use super::image_out::is_stdout;
 use super::{interrupt, CliError};
 
 /// A destination file being written through a temporary sibling.
@@ -62,4 +63,76 @@ pub fn cannot_write(name: impl std::fmt::Display, e: &std::io::Error) -> CliErro
 /// A short description of an I/O error.
 pub fn brief(e: &std::io::Error) -> String {
     nffrt::io_reason(e)
+}
+
+/// One file a command writes, as the command line named it: `-o a.png`, `the
+/// default output a.png`, `--stats-json s.json`.
+pub struct Named<'a> {
+    /// The path.
+    pub path: &'a Path,
+    /// How it was named, for the message.
+    pub named: String,
+}
+
+impl<'a> Named<'a> {
+    /// The file given to `flag`.
+    pub fn flag(flag: &str, path: &'a Path) -> Named<'a> {
+        Named {
+            path,
+            named: format!("{flag} {}", path.display()),
+        }
+    }
+}
+
+/// Refuses outputs that would replace one of the command's inputs (`(path, what it
+/// is)`, e.g. the scene file) or each other: the same file, whatever it is called
+/// (compared by device and inode on Unix), or the same name for two outputs. `-`
+/// (standard input or output) is no file here. A usage error, before anything is read or
+/// written.
+pub fn refuse_overwriting(outputs: &[Named<'_>], inputs: &[(&Path, &str)]) -> Result<(), CliError> {
+    let outputs: Vec<&Named<'_>> = outputs.iter().filter(|o| !is_stdout(o.path)).collect();
+    for out in &outputs {
+        for &(input, what) in inputs.iter().filter(|(p, _)| !is_stdout(p)) {
+            if same_file(out.path, input) {
+                let also = if out.path == input { "" } else { " (the same file)" };
+                return Err(CliError::usage(format!(
+                    "{} would overwrite {what} {}{also}; name another output",
+                    out.named,
+                    input.display()
+                )));
+            }
+        }
+    }
+    for (i, a) in outputs.iter().enumerate() {
+        if let Some(b) = outputs[i + 1..]
+            .iter()
+            .find(|b| a.path == b.path || same_file(a.path, b.path))
+        {
+            return Err(CliError::usage(format!(
+                "{} and {} name the same file; give each its own",
+                a.named, b.named
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// True if both paths exist and are one file (the same device and inode on Unix;
+/// elsewhere, the same canonical path).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(a), std::fs::metadata(b)) {
+            (Ok(x), Ok(y)) => (x.dev(), x.ino()) == (y.dev(), y.ino()),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        match (a.canonicalize(), b.canonicalize()) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => false,
+        }
+    }
 }

@@ -9,7 +9,7 @@ use clap::Args;
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
 use super::load::{build_bvh, load_scene_with, print_warnings, Fingerprint};
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, refuse_overwriting, AtomicOutput, Named};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
@@ -117,6 +117,20 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     }
 }
 
+/// Refuses an image or stats file that would replace the scene file, or each other.
+fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), CliError> {
+    let image = match &args.output {
+        Some(path) => Named::flag("-o", path),
+        None => Named {
+            path: out_path,
+            named: format!("the default output {}", out_path.display()),
+        },
+    };
+    let stats = args.stats_json.as_deref().map(|p| Named::flag("--stats-json", p));
+    let outputs: Vec<Named<'_>> = std::iter::once(image).chain(stats).collect();
+    refuse_overwriting(&outputs, &[(&args.scene, "the scene file")])
+}
+
 /// The render settings `args` ask for on `scene`.
 pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
     let (width, height) = image_size(args.width, args.height, scene.view.width, scene.view.height);
@@ -160,6 +174,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
+    refuse_overwriting_inputs(&args, &out_path)?;
     if args.region.is_some() && format != ImageFormat::Png {
         return Err(CliError::usage(format!(
             "{}: --region writes PNG tiles (their place is kept in a PNG text chunk)",
