@@ -47,13 +47,14 @@ pub use prepared::PreparedScene;
 pub use scene::Scene;
 
 /// A short, lower-case description of an I/O error, the same wording everywhere:
-/// `no such file or directory`, `permission denied`, `is a directory`, or the
-/// system's own text for anything else.
+/// `no such file or directory`, `permission denied`, `is a directory`, `the reader
+/// closed the pipe`, or the system's own text for anything else.
 pub fn io_reason(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file or directory".into(),
         std::io::ErrorKind::PermissionDenied => "permission denied".into(),
         std::io::ErrorKind::IsADirectory => "is a directory".into(),
+        std::io::ErrorKind::BrokenPipe => "the reader closed the pipe".into(),
         _ => e.to_string(),
     }
 }

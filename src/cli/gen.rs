@@ -1,7 +1,6 @@
 //! `nffrt gen`: writes one of the SPD's classic scenes as NFF, to standard output
 //! or, through a temporary file renamed when complete, to a file.
 
-use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -10,7 +9,7 @@ use nffrt::image::ImageFormat;
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
 
 /// Arguments of `nffrt gen`.
@@ -69,8 +68,8 @@ pub fn run(args: GenArgs) -> Result<(), CliError> {
     let scene = generate(args.name, size)
         .map_err(|e| CliError::usage(format!("invalid value '{size}' for '--size <N>': {e}")))?;
     match args.output.as_deref() {
-        None => write_stdout(&scene),
-        Some(p) if p == Path::new("-") => write_stdout(&scene),
+        None => write_stdout(|mut w| write_nff(&scene, &mut w)),
+        Some(p) if p == Path::new("-") => write_stdout(|mut w| write_nff(&scene, &mut w)),
         Some(p) => write_file(&scene, p),
     }
 }
@@ -84,16 +83,6 @@ fn refuse_image_name(path: &Path) -> Result<(), CliError> {
             path.display()
         ))),
         None => Ok(()),
-    }
-}
-
-fn write_stdout(scene: &Scene) -> Result<(), CliError> {
-    let mut w = BufWriter::with_capacity(1 << 16, io::stdout().lock());
-    match write_nff(scene, &mut w).and_then(|()| w.flush()) {
-        Ok(()) => Ok(()),
-        // The reader stopped early (`nffrt gen balls | head`): not our failure.
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(CliError::io(format!("writing standard output: {e}"))),
     }
 }
 

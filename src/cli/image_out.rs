@@ -5,7 +5,7 @@
 use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
 use nffrt::image::{encode_png_rgb8, png_error, Image, ImageFormat};
 
@@ -86,13 +86,7 @@ impl Destination {
                 // Encode fully first, so a failed encode writes nothing.
                 let mut bytes = Vec::new();
                 encode(&mut bytes).map_err(|e| CliError::io(format!("encoding the image: {e}")))?;
-                let mut out = io::stdout().lock();
-                match out.write_all(&bytes).and_then(|()| out.flush()) {
-                    Ok(()) => Ok(()),
-                    // The reader stopped early: not our failure.
-                    Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-                    Err(e) => Err(CliError::io(format!("writing standard output: {e}"))),
-                }
+                write_stdout(|w| w.write_all(&bytes))
             }
         }
     }

@@ -4,7 +4,7 @@
 //! existing one), its temporary registered for removal on a second Ctrl-C, and its
 //! errors worded as every command words them.
 
-use std::io::Write;
+use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 use nffrt::output::AtomicFile;
@@ -52,6 +52,16 @@ impl Drop for AtomicOutput {
             interrupt::unregister_temp(&temp);
         }
     }
+}
+
+/// Writes data (an image, scene text, JSON) to standard output through `write`.
+/// Any failure, a reader that closed the pipe early included, is an output error:
+/// the data did not all arrive. (Reports for people, `outln!`, end quietly instead.)
+pub fn write_stdout(write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), CliError> {
+    let mut out = BufWriter::with_capacity(1 << 16, io::stdout().lock());
+    write(&mut out)
+        .and_then(|()| out.flush())
+        .map_err(|e| cannot_write("standard output", &e))
 }
 
 /// The one error for an output that cannot be written: `NAME: cannot write output:

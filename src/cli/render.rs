@@ -9,7 +9,7 @@ use clap::Args;
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
 use super::load::{build_bvh, load_scene_with, print_warnings, Fingerprint};
-use super::output::{cannot_write, refuse_overwriting, AtomicOutput, Named};
+use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput, Named};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
@@ -243,7 +243,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;
     } else if json_to_stdout {
-        outln!("{}", report.json());
+        write_stdout(|w| writeln!(w, "{}", report.json()))?;
     }
     if args.stats {
         // Standard output carrying an image or JSON holds nothing else.
