@@ -34,10 +34,23 @@ fn help(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
-/// Item 6: a negative number is a bad value of its flag, with the range in words.
+/// Item 6 (and issue 30, item D: the lens flags and `--light-samples`): a negative
+/// number is a bad value of its flag, with the range in words.
 #[test]
 fn negative_numbers_are_bad_values_not_unknown_arguments() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 8] = [
+        (
+            &["render", SHOWCASE, "--aperture", "-3"],
+            "invalid value '-3' for '--aperture <PIXELS>': must be a number, 0 or more",
+        ),
+        (
+            &["render", SHOWCASE, "--focal", "-1"],
+            "invalid value '-1' for '--focal <RATIO>': must be a number above 0",
+        ),
+        (
+            &["render", SHOWCASE, "--light-samples", "0"],
+            "invalid value '0' for '--light-samples <N>': must be a whole number from 1 to 64",
+        ),
         (
             &["render", SHOWCASE, "--spp", "-1"],
             "invalid value '-1' for '--spp <N>': must be a whole number from 1 to 4096",
@@ -64,6 +77,40 @@ fn negative_numbers_are_bad_values_not_unknown_arguments() {
         assert!(line.contains(want), "{args:?}: {line}");
         assert!(!line.contains("unexpected argument"), "{line}");
     }
+}
+
+/// Issue 30, item D: a directory given as the output is called one (not an unknown
+/// image format), and a P3F file read as NFF gets a hint at its first P3F keyword.
+#[test]
+fn a_directory_output_and_a_p3f_file_read_as_nff_are_named() {
+    let dir = scratch("named");
+    let outdir = dir.join("outdir");
+    std::fs::create_dir(&outdir).unwrap();
+    let o = outdir.to_str().unwrap();
+    for args in [
+        &["render", SHOWCASE, "-o", o][..],
+        &["merge", SHOWCASE, "-o", o][..],
+    ] {
+        assert_eq!(
+            error_line(&nffrt(args), 4),
+            format!("nffrt: error: {o}: cannot write output: is a directory")
+        );
+    }
+    // Its first keyword, at line 3, is `accel`.
+    let p3f = std::fs::read(common::data_dir("ok").join("p3f_2025_every_keyword.p3f")).unwrap();
+    let line = error_line(&common::nffrt(&["info", "-"], &p3f), 3);
+    assert_eq!(
+        line,
+        r#"nffrt: error: <stdin>:3:1: unknown keyword "accel"; "accel" is a P3F keyword: is this a P3F file? (--format p3f)"#
+    );
+    let ok = common::nffrt(&["info", "-", "--format", "p3f"], &p3f);
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Item 7: a typo gets clap's suggestion, and the pointer to the help that lists the

@@ -152,7 +152,11 @@ fn broken_tile_sets_are_refused_with_the_reason() {
     let (code, err) = merge(&["left", "right4"]);
     assert_eq!(code, Some(3));
     assert!(
-        err.contains("right4.png was rendered with different settings"),
+        err.contains("left.png and ")
+            && err.ends_with(
+                "right4.png were rendered with different settings: \
+                 sampling PixelCenters against Stratified, spp none against 4\n"
+            ),
         "{err}"
     );
     let (code, err) = merge(&["left", "full"]);
@@ -270,7 +274,8 @@ fn tiles_without_a_fingerprint_or_of_another_depth_are_refused() {
     let (code, err) = merge_in(&dir, &["left.png", "right.png"]);
     assert_eq!(code, Some(3), "{err}");
     assert!(
-        err.contains("right.png was rendered with different settings"),
+        err.contains("left.png and ")
+            && err.ends_with("right.png were rendered with different settings: max_depth 5 against 2\n"),
         "{err}"
     );
     // An older nffrt's tile: the region and options chunks, no fingerprint.

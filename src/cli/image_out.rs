@@ -9,10 +9,15 @@ use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
 use nffrt::image::{encode_png_rgb8, png_error, Image, ImageFormat};
 
-/// The format of `path` by its extension; `-` (standard output) is PNG.
+/// The format of `path` by its extension; `-` (standard output) is PNG. A
+/// directory is no image file, whatever its name.
 pub fn format_of(path: &Path) -> Result<ImageFormat, CliError> {
     if is_stdout(path) {
         return Ok(ImageFormat::Png);
+    }
+    if path.is_dir() {
+        let e = io::Error::new(io::ErrorKind::IsADirectory, "is a directory");
+        return Err(cannot_write(path.display(), &e));
     }
     ImageFormat::from_extension(path).ok_or_else(|| CliError::usage(ImageFormat::unknown(path)))
 }

@@ -64,16 +64,19 @@ pub struct RenderArgs {
     pub spp: Option<u32>,
     /// Lens diameter in pixels of the view plane (depth of field; 0 is a pinhole).
     /// Default: the scene's (P3F `aperture`), else 0.
-    #[arg(long, value_name = "PIXELS", value_parser = non_negative)]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true,
+          value_parser = values::number_at_least_zero)]
     pub aperture: Option<f32>,
     /// Distance of the plane of sharp focus, as a multiple of the distance from the
     /// camera to its look-at point. Default: the scene's (P3F `focal`), else 1.
-    #[arg(long, value_name = "RATIO", value_parser = positive)]
+    #[arg(long, value_name = "RATIO", allow_negative_numbers = true,
+          value_parser = values::number_above_zero)]
     pub focal: Option<f32>,
     /// Sample every area light on an N x N grid at every hit, whatever the sampling
     /// (default: the light's own grid with one sample per pixel, one point per
     /// sample with more); 1 to 64.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_LIGHT_SAMPLES as i64))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_LIGHT_SAMPLES as u64))]
     pub light_samples: Option<u32>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;
@@ -148,22 +151,6 @@ pub fn render_options(args: &RenderArgs, scene: &Scene) -> RenderOptions {
         focal: args.focal,
         light_samples: args.light_samples,
         ..Default::default()
-    }
-}
-
-/// A finite number of at least 0 (for `--aperture`).
-fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("'{s}' is not a finite number of at least 0")),
-    }
-}
-
-/// A finite number above 0 (for `--focal`).
-fn positive(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("'{s}' is not a finite number above 0")),
     }
 }
 

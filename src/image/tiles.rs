@@ -122,14 +122,82 @@ fn check_fingerprints(tiles: &[Tile]) -> Result<(), String> {
             )
         });
     }
-    if let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.fingerprint.options) {
-        let (a, b) = (&tiles[odd], &tiles[reference]);
-        return Err(format!(
-            "{} was rendered with different settings ({}) from {} ({})",
-            a.name, a.settings, b.name, b.settings
-        ));
+    if let Some((odd, reference, alone)) = odd_one_out(tiles, |t| t.fingerprint.options) {
+        // The odd tile first when it is alone, else the two in the order given.
+        let (a, b) = match alone {
+            true => (&tiles[odd], &tiles[reference]),
+            false => (&tiles[reference], &tiles[odd]),
+        };
+        let differences = settings_difference(&a.settings, &b.settings)
+            .unwrap_or_else(|| format!("{} against {}", a.settings, b.settings));
+        return Err(if alone {
+            format!(
+                "{} was rendered with different settings than the other tiles, e.g. {}: {differences}",
+                a.name, b.name
+            )
+        } else {
+            format!(
+                "{} and {} were rendered with different settings: {differences}",
+                a.name, b.name
+            )
+        });
     }
     Ok(())
+}
+
+/// The settings in which two tiles' [`OPTIONS_KEY`] texts differ, in words: `spp 4
+/// against 16, max_depth 5 against 2` (the first tile's value first); `None` when
+/// either text is not the JSON object nffrt writes or no setting differs.
+fn settings_difference(a: &str, b: &str) -> Option<String> {
+    let (a, b) = (settings_words(a)?, settings_words(b)?);
+    let value = |words: &[(String, String)], key: &str| {
+        let found = words.iter().find(|(k, _)| k == key);
+        found.map_or_else(|| "none".to_string(), |(_, v)| v.clone())
+    };
+    let mut keys: Vec<&String> = a.iter().chain(&b).map(|(k, _)| k).collect();
+    keys.sort();
+    keys.dedup();
+    let differences: Vec<String> = keys
+        .into_iter()
+        .map(|key| (key, value(&a, key), value(&b, key)))
+        .filter(|(_, x, y)| x != y)
+        .map(|(key, x, y)| format!("{key} {x} against {y}"))
+        .collect();
+    (!differences.is_empty()).then(|| differences.join(", "))
+}
+
+/// A tile's settings (the JSON of [`crate::fingerprint::options_text`]) as `(name,
+/// value)` words: an enum variant with fields counts as its name plus each field
+/// (`"sampling": {"Stratified": {"spp": 4}}` is `sampling Stratified` and `spp 4`),
+/// `null` (the scene's value) is `none`.
+fn settings_words(text: &str) -> Option<Vec<(String, String)>> {
+    fn flatten(key: String, value: serde_json::Value, words: &mut Vec<(String, String)>) {
+        use serde_json::Value;
+        match value {
+            Value::Object(fields) if fields.len() == 1 && fields.values().all(Value::is_object) => {
+                for (variant, fields) in fields {
+                    words.push((key.clone(), variant));
+                    flatten(key.clone(), fields, words);
+                }
+            }
+            Value::Object(fields) => {
+                for (k, v) in fields {
+                    flatten(k, v, words);
+                }
+            }
+            Value::String(s) => words.push((key, s)),
+            Value::Null => words.push((key, "none".into())),
+            v => words.push((key, v.to_string())),
+        }
+    }
+    let serde_json::Value::Object(fields) = serde_json::from_str(text).ok()? else {
+        return None;
+    };
+    let mut words = Vec::new();
+    for (key, value) in fields {
+        flatten(key, value, &mut words);
+    }
+    Some(words)
 }
 
 /// Checks the tiles and assembles them: `(width, height, RGB bytes)` of the full image.
@@ -264,7 +332,7 @@ mod tests {
         other.settings = "spp=4".into();
         let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
         assert!(
-            e.contains("b was rendered with different settings (spp=4) from a (spp=1)"),
+            e.contains("a and b were rendered with different settings: spp=1 against spp=4"),
             "{e}"
         );
         assert!(merge_tiles(&[]).is_err());
@@ -291,6 +359,42 @@ mod tests {
         // Two tiles that disagree: neither can be called the odd one, both are named.
         let e = merge_tiles(&[top, odd]).unwrap_err();
         assert!(e.contains("top and odd come from different scenes"), "{e}");
+    }
+
+    #[test]
+    fn differing_settings_are_named_in_words() {
+        let options = |sampling: &str, depth: u32| {
+            format!(
+                r#"{{"width":4,"height":3,"max_depth":{depth},"sampling":{sampling},"aperture":null,"focal":1.5}}"#
+            )
+        };
+        let spp = |n: u32| options(&format!(r#"{{"Stratified":{{"spp":{n}}}}}"#), 5);
+        assert_eq!(
+            settings_difference(&spp(4), &spp(16)).as_deref(),
+            Some("spp 4 against 16")
+        );
+        assert_eq!(
+            settings_difference(&options(r#""PixelCenters""#, 2), &spp(16)).as_deref(),
+            Some("max_depth 2 against 5, sampling PixelCenters against Stratified, spp none against 16")
+        );
+        assert_eq!(settings_difference(&spp(4), &spp(4)), None);
+        assert_eq!(settings_difference("not recorded", &spp(4)), None);
+        // Three tiles, one odd: it is named, with one of the others.
+        let mut tiles = [
+            tile("top", 0, 0, 4, 1),
+            tile("mid", 0, 1, 4, 2),
+            tile("bot", 0, 2, 4, 3),
+        ];
+        for t in &mut tiles {
+            t.settings = spp(16);
+        }
+        tiles[2].settings = spp(4);
+        tiles[2].fingerprint.options = 3;
+        let e = merge_tiles(&tiles).unwrap_err();
+        assert_eq!(
+            e,
+            "bot was rendered with different settings than the other tiles, e.g. top: spp 4 against 16"
+        );
     }
 
     #[test]
