@@ -1,4 +1,4 @@
-//! # nffrt — a fast, correct Whitted ray tracer for NFF scenes
+//! # nffrt — a fast, correct ray tracer for NFF and P3F scenes
 //!
 //! NFF (Eric Haines' Neutral File Format) is the scene format of the Standard
 //! Procedural Databases, and P3F, the extended NFF of the IST course that builds on
@@ -42,6 +42,7 @@ pub mod output;
 pub mod prepared;
 pub mod render;
 pub mod scene;
+pub mod words;
 
 pub use prepared::PreparedScene;
 pub use scene::Scene;

@@ -224,7 +224,9 @@ fn a_byte_order_mark_is_skipped_and_binary_files_are_named() {
     assert!(bom.status.success(), "{}", String::from_utf8_lossy(&bom.stderr));
     let counts = |o: &Output| {
         let mut j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        // (The time and the file's name differ, not what it holds.)
         j.as_object_mut().unwrap().remove("parse_s");
+        j.as_object_mut().unwrap().remove("scene");
         j
     };
     assert_eq!(counts(&bom), counts(&plain));
@@ -245,5 +247,76 @@ fn a_byte_order_mark_is_skipped_and_binary_files_are_named() {
         line.ends_with("picture.png:2:1: not a text scene: binary data at byte offset 6 (0x1a)"),
         "{line}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 30, item E: the help names both languages; counts take their noun in the
+/// right number; f32 values print as the decimals they were given in; `info --json`
+/// has the camera and the scene's name that the text shows, and bounds that hold
+/// the primitives and no more.
+#[test]
+fn words_numbers_and_info_json_say_what_is_there() {
+    let top = help(&["--help"]);
+    let about = top.lines().next().unwrap();
+    assert!(
+        about.contains("NFF") && about.contains("P3F") && !about.contains("Whitted"),
+        "{about}"
+    );
+    for sub in ["render", "info", "bench"] {
+        let text = help(&[sub, "--help"]);
+        assert!(text.contains("Scene file, NFF or P3F"), "{sub}: {text}");
+    }
+
+    // One tile, one thread, one mesh: singular nouns.
+    let dir = scratch("words");
+    let tile = dir.join("all.png");
+    let tile = tile.to_str().unwrap();
+    let small = ["--width", "8", "--height", "6", "--threads", "1"];
+    let render = nffrt(
+        &[
+            &["render", SHOWCASE, "--region", "0,0,8,6", "-o", tile][..],
+            &small[..],
+        ]
+        .concat(),
+    );
+    let summary = String::from_utf8_lossy(&render.stderr).into_owned();
+    assert!(summary.ends_with(", 1 thread\n"), "{summary}");
+    let full = dir.join("full.png");
+    let merge = nffrt(&["merge", tile, "-o", full.to_str().unwrap()]);
+    let merged = String::from_utf8_lossy(&merge.stderr).into_owned();
+    assert!(merged.starts_with("merged 1 tile into "), "{merged}");
+    let p3f = common::data_dir("ok").join("p3f_2025_every_keyword.p3f");
+    let info = String::from_utf8(nffrt(&["info", p3f.to_str().unwrap()]).stdout).unwrap();
+    assert!(
+        info.contains("  meshes    1 triangle in 1 mesh (3 vertices)\n"),
+        "{info}"
+    );
+
+    // --focal 1.2 is reported as 1.2, in the JSON (standard output) and the text
+    // (standard error, out of the JSON's way).
+    let full_png = full.to_str().unwrap();
+    let stats = ["--focal", "1.2", "--stats", "--stats-json", "-", "-q"];
+    let out = nffrt(&[&["render", SHOWCASE, "-o", full_png][..], &small[..], &stats[..]].concat());
+    let (json, text) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(json.contains("\"focal\": 1.2,"), "{json}");
+    assert!(text.contains("\nfocal              1.2\n"), "{text}");
+
+    // info --json: the camera of the showcase's `v` block and its name.
+    let out = nffrt(&["info", "--json", SHOWCASE]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["scene"], SHOWCASE);
+    assert_eq!(
+        j["camera"],
+        serde_json::json!({"from": [0.5, -9.0, 3.2], "at": [0.3, 0.0, 1.1], "up": [0.0, 0.0, 1.0],
+                           "angle": 40.0, "resolution": [640, 480], "aperture": 0.0, "focal": 1.0})
+    );
+    // Everything in the showcase stands on the ground plane z = 0 (spheres of radius
+    // 1 and 1.2 centred at those heights, the box from 0, the cones' bases, the
+    // patches' lowest vertices) and the star's top vertex is at z = 3.7.
+    assert_eq!(j["bounds_min"][2], 0.0, "{}", j["bounds_min"]);
+    assert_eq!(j["bounds_max"][2], 3.7, "{}", j["bounds_max"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }

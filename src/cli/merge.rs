@@ -18,6 +18,7 @@ use nffrt::image::tiles::{
     merge_tiles, parse_region_text, Tile, TileFingerprint, FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
 };
 use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
+use nffrt::words::count;
 
 /// Arguments of `nffrt merge`.
 #[derive(Args, Debug)]
@@ -49,8 +50,8 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
     output.write_png_rgb8(w, h, &rgb, &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())])?;
     if !args.quiet {
         eprintln!(
-            "merged {} tiles into {} ({w}x{h})",
-            tiles.len(),
+            "merged {} into {} ({w}x{h})",
+            count(tiles.len(), "tile", "tiles"),
             display_name(&args.output)
         );
     }

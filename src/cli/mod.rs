@@ -79,7 +79,8 @@ impl CliError {
     }
 }
 
-/// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
+/// nffrt: a fast, correct ray tracer for NFF scenes (the Standard Procedural Databases)
+/// and P3F scenes (the IST course's extended NFF).
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None, propagate_version = true)]
 #[command(

@@ -21,12 +21,13 @@ use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::prepared::image_size;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling};
+use nffrt::words::count;
 use nffrt::Scene;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file (NFF); `-` reads standard input.
+    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float); `-` writes
     /// PNG to standard output. Default: the scene's file stem + .png in the current
@@ -179,7 +180,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
+        .map_err(|e| {
+            CliError::io(format!(
+                "cannot start {}: {e}",
+                count(threads, "thread", "threads")
+            ))
+        })?;
     let fingerprint = if args.region.is_some() {
         Fingerprint::Scene
     } else {
@@ -247,15 +253,15 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             format!(" (region {region})")
         };
         eprintln!(
-            "rendered {} in {:.2} s: {} rays, {:.1} Mrays/s, {}x{}{crop}, {}, {} threads",
+            "rendered {} in {:.2} s: {}, {:.1} Mrays/s, {}x{}{crop}, {}, {}",
             display_name(&out_path),
             build_s + render_s,
-            report.total_rays,
+            count(report.total_rays, "ray", "rays"),
             report.mrays_per_s,
             opts.width,
             opts.height,
             opts.sampling,
-            threads
+            count(threads, "thread", "threads")
         );
     }
     Ok(())

@@ -10,6 +10,7 @@ use serde_json::{json, Value};
 
 use nffrt::image::Region;
 use nffrt::render::{RenderOptions, Sampling, Stats};
+use nffrt::words::shortest_f64;
 use nffrt::Scene;
 
 /// The settings of a render, in report order: `(JSON key, value)`; the text report
@@ -60,8 +61,15 @@ pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &S
         ("samples_per_pixel", json!(spp)),
         ("max_depth", json!(opts.max_depth)),
         ("threads", json!(threads)),
-        ("aperture", json!(opts.aperture.unwrap_or(scene.view.aperture))),
-        ("focal", json!(opts.focal.unwrap_or(scene.view.focal))),
+        // (JSON numbers are f64: each f32 as the decimal it prints as, `1.2`.)
+        (
+            "aperture",
+            json!(shortest_f64(opts.aperture.unwrap_or(scene.view.aperture))),
+        ),
+        (
+            "focal",
+            json!(shortest_f64(opts.focal.unwrap_or(scene.view.focal))),
+        ),
         ("area_lights", json!(area_lights)),
         ("light_sampling", json!(light_sampling)),
         ("skybox", json!(skybox)),
@@ -170,6 +178,7 @@ mod tests {
             width: 9,
             height: 9,
             sampling: Sampling::Stratified { spp: 4 },
+            focal: Some(1.2),
             ..RenderOptions::default()
         };
         let region = Region::parse("0,0,5,5").unwrap();
@@ -195,6 +204,10 @@ mod tests {
         }
         let json: Value = serde_json::from_str(&report.json()).unwrap();
         assert_eq!(json["region"], json!([0, 0, 5, 5]));
+        // f32 settings as the decimals they were given in, not their f64 expansion.
+        assert_eq!(json["focal"], json!(1.2));
+        assert!(report.json().contains(r#""focal": 1.2,"#), "{}", report.json());
+        assert!(text.contains("focal              1.2\n"), "{text}");
         assert_eq!(json["samples_per_pixel"], 4);
         assert_eq!(json["eye_rays"], 100);
         assert_eq!(json["total_rays"], 100);
