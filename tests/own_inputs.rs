@@ -119,7 +119,7 @@ fn gen_refuses_an_image_name() {
     let dir = scratch("gen");
     std::fs::write(dir.join("k2.png"), b"the user's picture").unwrap();
     let before = contents(&dir);
-    for name in ["k2.png", "k2.PPM", "k2.pfm"] {
+    for name in ["k2.png", "k2.PPM", "k2.pfm", "k2.exr"] {
         let out = nffrt(&["gen", "tetra", "-o", s(&dir.join(name))], b"");
         refused(
             &out,

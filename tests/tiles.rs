@@ -89,6 +89,25 @@ fn seven_uneven_tiles_merge_into_the_full_render() {
     merged_equals_full("seven", &SEVEN, &[]);
 }
 
+/// Issue 30, item F: sRGB-encoded tiles merge into the full `--srgb` render, and
+/// never with linear ones.
+#[test]
+fn srgb_tiles_merge_alike_and_not_with_linear_ones() {
+    merged_equals_full("srgb", &FOUR, &["--srgb"]);
+    let dir = scratch("srgb_mixed");
+    render(&dir.join("top.png"), Some("0,0,61,30"), &["--srgb"]);
+    render(&dir.join("bottom.png"), Some("0,30,61,47"), &[]);
+    let png = nffrt::image::decode_png(&std::fs::read(dir.join("top.png")).unwrap()[..]).unwrap();
+    assert_eq!(png.text("nffrt:encoding"), Some("srgb"));
+    let (code, err) = merge_in(&dir, &["bottom.png", "top.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("top.png was written with --srgb and") && err.contains("bottom.png without"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn supersampled_tiles_merge_into_the_full_render() {
     merged_equals_full("spp", &SEVEN, &["--spp", "4"]);

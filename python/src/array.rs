@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use nffrt::image::{Image, ImageFormat, SOFTWARE_TEXT};
+use nffrt::image::{Encoding, Image, ImageFormat, SOFTWARE_TEXT};
 use nffrt::math::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict};
@@ -71,6 +71,7 @@ pub fn encode(image: &Image, format: ImageFormat) -> Result<Vec<u8>, String> {
     format
         .encode(
             image,
+            Encoding::Linear,
             &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
             &mut bytes,
         )

@@ -1,13 +1,13 @@
 //! Where `nffrt render` and `nffrt merge` put images: the format chosen by the file
-//! extension ([`ImageFormat`]), `-` for PNG on standard output, files written whole
-//! or not at all.
+//! extension ([`ImageFormat`]), `-` for PNG on standard output, 8-bit values linear
+//! or sRGB-encoded, files written whole or not at all.
 
 use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
 use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
-use nffrt::image::{encode_png_rgb8, png_error, Image, ImageFormat};
+use nffrt::image::{encode_png_rgb8, png_error, Encoding, Image, ImageFormat};
 
 /// The format of `path` by its extension; `-` (standard output) is PNG. A
 /// directory is no image file, whatever its name.
@@ -60,14 +60,16 @@ impl Destination {
         }
     }
 
-    /// Encodes `image` and completes the output. `text` goes into PNG text chunks.
+    /// Encodes `image` (8-bit formats in `encoding`) and completes the output.
+    /// `text` goes into PNG text chunks.
     pub fn write_image(
         self,
         image: &Image,
         format: ImageFormat,
+        encoding: Encoding,
         text: &[(&str, String)],
     ) -> Result<(), CliError> {
-        self.write_with(|w| format.encode(image, text, w))
+        self.write_with(|w| format.encode(image, encoding, text, w))
     }
 
     /// Encodes raw 8-bit RGB as PNG and completes the output.

@@ -15,7 +15,8 @@ use super::output::{brief, refuse_overwriting, Named};
 use super::CliError;
 use nffrt::image::decode_png;
 use nffrt::image::tiles::{
-    merge_tiles, parse_region_text, Tile, TileFingerprint, FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
+    merge_tiles, parse_encoding_text, parse_region_text, Tile, TileFingerprint, ENCODING_KEY,
+    FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
 };
 use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
 use nffrt::words::count;
@@ -89,6 +90,8 @@ fn read_tile(path: &PathBuf) -> Result<Tile, CliError> {
     })?;
     let fingerprint =
         TileFingerprint::parse(fingerprint).map_err(|e| CliError::scene(format!("{name}: {e}")))?;
+    let encoding =
+        parse_encoding_text(png.text(ENCODING_KEY)).map_err(|e| CliError::scene(format!("{name}: {e}")))?;
     Ok(Tile {
         name,
         region,
@@ -96,6 +99,7 @@ fn read_tile(path: &PathBuf) -> Result<Tile, CliError> {
         full_height,
         fingerprint,
         settings: png.text(OPTIONS_KEY).unwrap_or("not recorded").to_string(),
+        encoding,
         rgb: png.rgb,
     })
 }

@@ -98,7 +98,8 @@ enum Command {
     Gen(gen::GenArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
-    /// Render a scene to an image (PNG, PPM or PFM), a tile of it, or trace one pixel.
+    /// Render a scene to an image (PNG, PPM, PFM or OpenEXR), a tile of it, or trace one
+    /// pixel.
     Render(render::RenderArgs),
     /// Assemble the PNG tiles of `render --region` into the full image.
     Merge(merge::MergeArgs),

@@ -17,7 +17,7 @@ use super::{interrupt, pixel, CliError};
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
-use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
+use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::prepared::image_size;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, Sampling};
@@ -29,10 +29,10 @@ use nffrt::Scene;
 pub struct RenderArgs {
     /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
-    /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float); `-` writes
-    /// PNG to standard output. Default: the scene's file stem + .png in the current
-    /// directory, or with --region the stem + .X0-Y0-X1-Y1.png (a tile never takes
-    /// the full picture's name).
+    /// Output image: .png (8-bit), .ppm (binary P6, 8-bit), .pfm or .exr (linear
+    /// float); `-` writes PNG to standard output. Default: the scene's file stem +
+    /// .png in the current directory, or with --region the stem + .X0-Y0-X1-Y1.png
+    /// (a tile never takes the full picture's name).
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// Image width, 1 to 32768 (default: the scene's). Given alone, the height follows
@@ -84,10 +84,16 @@ pub struct RenderArgs {
     /// `nffrt merge` assembles tiles.
     #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true, value_parser = values::region)]
     pub region: Option<Region>,
+    /// 8-bit pictures (PNG, PPM) sRGB-encoded, as POV-Ray and pbrt write them. The
+    /// default is linear: each channel clamped to [0, 1] and scaled, as the SPD's and
+    /// the course's pictures are, for NFF and P3F alike. Not with .pfm or .exr,
+    /// which hold the linear values; a tile records it, and merge refuses to mix.
+    #[arg(long)]
+    pub srgb: bool,
     /// Trace only pixel X,Y (column and row, from 0) and print its ray tree to standard
-    /// output: no image, so not with --output, --region, --stats or --stats-json.
+    /// output: no image, so not with --output, --region, --srgb, --stats or --stats-json.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = values::pixel,
-          conflicts_with_all = ["region", "output", "stats", "stats_json"])]
+          conflicts_with_all = ["region", "output", "srgb", "stats", "stats_json"])]
     pub pixel: Option<(u32, u32)>,
     /// Print the settings (size, region, sampling, depth), ray counts and timings; to
     /// standard error when standard output carries the image or the JSON.
@@ -118,6 +124,18 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     match region {
         Some(r) => PathBuf::from(format!("{stem}.{}-{}-{}-{}.png", r.x0, r.y0, r.x1, r.y1)),
         None => PathBuf::from(format!("{stem}.png")),
+    }
+}
+
+/// The 8-bit encoding `--srgb` asks for; refused for the float formats.
+fn encoding(args: &RenderArgs, format: ImageFormat, out_path: &Path) -> Result<Encoding, CliError> {
+    match (args.srgb, format.is_8bit()) {
+        (false, _) => Ok(Encoding::Linear),
+        (true, true) => Ok(Encoding::Srgb),
+        (true, false) => Err(CliError::usage(format!(
+            "--srgb: {} holds linear floats; sRGB encoding is for 8-bit .png and .ppm",
+            out_path.display()
+        ))),
     }
 }
 
@@ -162,6 +180,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
+    let encoding = encoding(&args, format, &out_path)?;
     refuse_overwriting_inputs(&args, &out_path)?;
     if args.region.is_some() && format != ImageFormat::Png {
         return Err(CliError::usage(format!(
@@ -223,8 +242,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
     if let Some(scene_print) = loaded.fingerprint {
         text.extend(tile_text(&region, &opts, scene_print));
+        text.extend(tiles::encoding_text(encoding));
     }
-    output.write_image(&image, format, &text)?;
+    output.write_image(&image, format, encoding, &text)?;
 
     let report = StatsReport::new(
         stats::settings(&opts, &region, threads, scene),

@@ -5,13 +5,16 @@
 //! [`REGION_KEY`] = `X0,Y0,X1,Y1,W,H` (the region, half-open, and the full image
 //! size), [`FINGERPRINT_KEY`] = `scene=HEX options=HEX` (see [`crate::fingerprint`]:
 //! the scene it was rendered from and every option that changes pixels) and
-//! [`OPTIONS_KEY`] (those options in words, for people and error messages).
-//! [`merge_tiles`] checks that the tiles agree on the full size and fingerprint, lie
-//! inside the image, do not overlap and cover it, then copies them into place.
+//! [`OPTIONS_KEY`] (those options in words, for people and error messages); a tile
+//! written sRGB-encoded also has [`ENCODING_KEY`] = `srgb`.
+//! [`merge_tiles`] checks that the tiles agree on the full size, fingerprint and
+//! encoding, lie inside the image, do not overlap and cover it, then copies them
+//! into place.
 
 use std::fmt;
 
 use super::region::{parse_u32s, Region};
+use super::Encoding;
 
 /// PNG text keyword of a tile's placement: `X0,Y0,X1,Y1,W,H`.
 pub const REGION_KEY: &str = "nffrt:region";
@@ -19,6 +22,26 @@ pub const REGION_KEY: &str = "nffrt:region";
 pub const OPTIONS_KEY: &str = "nffrt:options";
 /// PNG text keyword of a tile's [`TileFingerprint`].
 pub const FINGERPRINT_KEY: &str = "nffrt:fingerprint";
+/// PNG text keyword of a tile's [`Encoding`] when it is not the default: `srgb`.
+pub const ENCODING_KEY: &str = "nffrt:encoding";
+
+/// The [`ENCODING_KEY`] chunk of a tile in `encoding`, if it needs one (a tile
+/// without it holds linear values, as every tile did before sRGB output).
+pub fn encoding_text(encoding: Encoding) -> Option<(&'static str, String)> {
+    match encoding {
+        Encoding::Linear => None,
+        Encoding::Srgb => Some((ENCODING_KEY, "srgb".into())),
+    }
+}
+
+/// The encoding of a tile whose [`ENCODING_KEY`] chunk holds `text` (`None`: none).
+pub fn parse_encoding_text(text: Option<&str>) -> Result<Encoding, String> {
+    match text {
+        None => Ok(Encoding::Linear),
+        Some("srgb") => Ok(Encoding::Srgb),
+        Some(other) => Err(format!("unknown {ENCODING_KEY} '{other}' (nffrt writes 'srgb')")),
+    }
+}
 
 /// What a tile was made from: tiles merge only when these are equal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,6 +91,8 @@ pub struct Tile {
     pub fingerprint: TileFingerprint,
     /// The render settings in words, as recorded in the tile (for messages).
     pub settings: String,
+    /// How its bytes hold the linear values.
+    pub encoding: Encoding,
     /// `region.width() * region.height() * 3` bytes, top row first.
     pub rgb: Vec<u8>,
 }
@@ -145,6 +170,24 @@ fn check_fingerprints(tiles: &[Tile]) -> Result<(), String> {
     Ok(())
 }
 
+/// Refuses sRGB-encoded tiles beside linear ones: their bytes mean other colours.
+fn check_encodings(tiles: &[Tile]) -> Result<(), String> {
+    let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.encoding) else {
+        return Ok(());
+    };
+    let (a, b) = (&tiles[odd], &tiles[reference]);
+    let (srgb, linear) = if a.encoding == Encoding::Srgb {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    Err(format!(
+        "{} was written with --srgb and {} without: their bytes encode colours differently; \
+         render them alike",
+        srgb.name, linear.name
+    ))
+}
+
 /// The settings in which two tiles' [`OPTIONS_KEY`] texts differ, in words: `spp 4
 /// against 16, max_depth 5 against 2` (the first tile's value first); `None` when
 /// either text is not the JSON object nffrt writes or no setting differs.
@@ -213,6 +256,7 @@ pub fn merge_tiles(tiles: &[Tile]) -> Result<(u32, u32, Vec<u8>), String> {
         }
     }
     check_fingerprints(tiles)?;
+    check_encodings(tiles)?;
     for t in tiles {
         let r = &t.region;
         if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
@@ -296,6 +340,7 @@ mod tests {
             full_height: 3,
             fingerprint: TileFingerprint { scene: 1, options: 2 },
             settings: "spp=1".into(),
+            encoding: Encoding::Linear,
             rgb,
         }
     }
@@ -359,6 +404,27 @@ mod tests {
         // Two tiles that disagree: neither can be called the odd one, both are named.
         let e = merge_tiles(&[top, odd]).unwrap_err();
         assert!(e.contains("top and odd come from different scenes"), "{e}");
+    }
+
+    #[test]
+    fn srgb_and_linear_tiles_do_not_mix() {
+        let mut srgb = tile("b", 2, 0, 4, 3);
+        srgb.encoding = Encoding::Srgb;
+        for tiles in [
+            [tile("a", 0, 0, 2, 3), srgb.clone()],
+            [srgb.clone(), tile("a", 0, 0, 2, 3)],
+        ] {
+            let e = merge_tiles(&tiles).unwrap_err();
+            assert!(e.starts_with("b was written with --srgb and a without"), "{e}");
+        }
+        let mut both = tile("a", 0, 0, 2, 3);
+        both.encoding = Encoding::Srgb;
+        assert!(merge_tiles(&[both, srgb]).is_ok());
+        assert_eq!(parse_encoding_text(None), Ok(Encoding::Linear));
+        let (key, text) = encoding_text(Encoding::Srgb).unwrap();
+        assert_eq!(key, ENCODING_KEY);
+        assert_eq!(parse_encoding_text(Some(&text)), Ok(Encoding::Srgb));
+        assert!(parse_encoding_text(Some("gamma")).is_err());
     }
 
     #[test]
