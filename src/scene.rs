@@ -100,6 +100,16 @@ impl Dialect {
     pub fn is_p3f(self) -> bool {
         self != Dialect::Nff
     }
+
+    /// The one name of the dialect, wherever it is shown (`info`, `--stats`, the
+    /// viewer, Python): `nff`, `p3f-2019` or `p3f-2025`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Nff => "nff",
+            Dialect::P3f2019 => "p3f-2019",
+            Dialect::P3f2025 => "p3f-2025",
+        }
+    }
 }
 
 /// What a view's `angle` spans, vertically (pixels are square).

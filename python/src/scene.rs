@@ -260,10 +260,9 @@ impl PyScene {
     #[getter]
     fn format(&self) -> &'static str {
         match (self.format, self.prepared.scene().dialect) {
-            (_, Dialect::P3f2019) => "p3f-2019",
-            (_, Dialect::P3f2025) => "p3f-2025",
+            // (P3F text with no keyword of either dialect's own.)
             (Format::P3f, Dialect::Nff) => "p3f",
-            (Format::Nff, Dialect::Nff) => "nff",
+            (_, dialect) => dialect.name(),
         }
     }
 

@@ -10,7 +10,7 @@ use super::load::{load_scene_with, print_warnings, Fingerprint};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
-use nffrt::scene::{Accel, Dialect};
+use nffrt::scene::Accel;
 use nffrt::words::count;
 
 /// Arguments of `nffrt info`.
@@ -136,7 +136,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     if args.json {
         let j = InfoJson {
             scene: loaded.name.clone(),
-            dialect: dialect_name(s.dialect),
+            dialect: s.dialect.name(),
             camera: CameraJson::of(&s.view),
             accel: s.accel,
             spp: s.spp,
@@ -184,7 +184,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         v.up.z,
         v.angle
     );
-    outln!("format      {}", dialect_name(s.dialect));
+    outln!("format      {}", s.dialect.name());
     if let Some(a) = s.accel {
         outln!(
             "accel       {} (as the file asks; nffrt builds its BVH)",
@@ -245,15 +245,6 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     print_warnings(&loaded, 20);
     Ok(())
-}
-
-/// The scene's language as `info` names it.
-fn dialect_name(d: Dialect) -> &'static str {
-    match d {
-        Dialect::Nff => "nff",
-        Dialect::P3f2019 => "p3f-2019",
-        Dialect::P3f2025 => "p3f-2025",
-    }
 }
 
 fn accel_name(a: Accel) -> &'static str {

@@ -33,7 +33,8 @@ impl Serialize for Settings {
 /// per pixel ([`Sampling::samples_per_pixel`]: 1 for `--spd`, whose corner rays each
 /// pixel shares with its neighbours), the depth, and the effects in use: the lens
 /// (aperture in pixels, 0 for a pinhole, and focal ratio, from the flags or the
-/// scene), the area lights and how they are sampled, the skybox, the shading model.
+/// scene), the area lights and how they are sampled, the skybox, the scene's
+/// dialect and shading model.
 pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &Scene) -> Settings {
     let sampling = match opts.sampling {
         Sampling::PixelCenters => "centres",
@@ -73,6 +74,7 @@ pub fn settings(opts: &RenderOptions, region: &Region, threads: usize, scene: &S
         ("area_lights", json!(area_lights)),
         ("light_sampling", json!(light_sampling)),
         ("skybox", json!(skybox)),
+        ("dialect", json!(scene.dialect.name())),
         ("shading", json!(shading)),
     ])
 }
