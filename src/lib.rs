@@ -9,7 +9,7 @@
 //! rules — built once; [`render`] traces images of it, each with its own camera and
 //! options ([`render::render_region`]: a crop with exactly the full render's
 //! pixels; [`render::debug::trace_pixel`]: one pixel's ray tree); [`image`] encodes
-//! them and assembles tiles. [`limits`] holds every limit and default; [`gen`] makes
+//! them and assembles tiles; [`output`] writes files whole or not at all. [`limits`] holds every limit and default; [`gen`] makes
 //! the SPD's classic scenes, at sizes up to 10 million primitives.
 //!
 //! ```
@@ -36,21 +36,24 @@ pub mod limits;
 pub mod load;
 pub mod math;
 pub mod nff;
+pub mod output;
 pub mod prepare;
 pub mod render;
 pub mod scene;
+pub mod words;
 
 pub use prepare::{prepare, RenderScene};
 pub use scene::Scene;
 
 /// A short, lower-case description of an I/O error, the same wording everywhere:
-/// `no such file or directory`, `permission denied`, `is a directory`, or the
-/// system's own text for anything else.
+/// `no such file or directory`, `permission denied`, `is a directory`, `the reader
+/// closed the pipe`, or the system's own text for anything else.
 pub fn io_reason(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file or directory".into(),
         std::io::ErrorKind::PermissionDenied => "permission denied".into(),
         std::io::ErrorKind::IsADirectory => "is a directory".into(),
+        std::io::ErrorKind::BrokenPipe => "the reader closed the pipe".into(),
         _ => e.to_string(),
     }
 }

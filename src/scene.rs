@@ -108,6 +108,16 @@ impl Dialect {
     pub fn is_p3f(self) -> bool {
         self != Dialect::Nff
     }
+
+    /// The one name of the dialect, wherever it is shown (`info`, `--stats`, the
+    /// viewer, Python): `nff`, `p3f-2019` or `p3f-2025`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Nff => "nff",
+            Dialect::P3f2019 => "p3f-2019",
+            Dialect::P3f2025 => "p3f-2025",
+        }
+    }
 }
 
 /// What a view's `angle` spans, vertically (pixels are square).
@@ -652,11 +662,12 @@ impl Scene {
                 .union(ball(s.center_at(close), s.radius));
         }
         for c in &self.cones {
-            let rb = Vec3::splat(c.base_radius.abs());
-            let ra = Vec3::splat(c.apex_radius.abs());
+            // The end discs' boxes (a cone lies between them), not their spheres':
+            // a cone standing on z = 0 reaches no lower.
+            let axis = (c.apex - c.base).normalize();
             b = b
-                .union(Aabb::new(c.base - rb, c.base + rb))
-                .union(Aabb::new(c.apex - ra, c.apex + ra));
+                .union(Aabb::of_disc(c.base, axis, c.base_radius.abs()))
+                .union(Aabb::of_disc(c.apex, axis, c.apex_radius.abs()));
         }
         for v in self.polygon_vertices.iter().chain(&self.patch_vertices) {
             b = b.grow(*v);
@@ -670,5 +681,35 @@ impl Scene {
             b = b.union(Aabb::new(x.min, x.max));
         }
         b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene of `body` after a camera and a material.
+    fn scene(body: &str) -> Scene {
+        let view = "v from 0 -9 3 at 0 0 1 up 0 0 1 angle 40 hither 1 resolution 8 8\n";
+        crate::nff::parse(&format!("{view}f 1 1 1 1 0 1 0 1\n{body}")).unwrap()
+    }
+
+    #[test]
+    fn cone_bounds_hold_its_end_discs_and_no_more() {
+        // Standing on z = 0, radius 0.7 at the base: its discs are flat in z.
+        let b = scene("c -3.2 2.2 0 0.7 -3.2 2.2 2.2 0\n").bounds();
+        assert_eq!(b.min.z, 0.0);
+        assert_eq!(b.max.z, 2.2);
+        assert!(
+            (b.min.x - -3.9).abs() < 1e-6 && (b.max.x - -2.5).abs() < 1e-6,
+            "{b:?}"
+        );
+        // A cylinder of radius 1 along (1, 1, 0)/√2 from the origin to (2, 2, 0):
+        // each disc reaches 1/√2 in x and y, 1 in z.
+        let b = scene("c 0 0 0 1 2 2 0 1\n").bounds();
+        let k = 0.5f32.sqrt();
+        let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+        assert!(close(b.min, Vec3::new(-k, -k, -1.0)), "{b:?}");
+        assert!(close(b.max, Vec3::new(2.0 + k, 2.0 + k, 1.0)), "{b:?}");
     }
 }

@@ -34,10 +34,23 @@ fn help(args: &[&str]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
-/// Item 6: a negative number is a bad value of its flag, with the range in words.
+/// Item 6 (and issue 30, item D: the lens flags and `--light-samples`): a negative
+/// number is a bad value of its flag, with the range in words.
 #[test]
 fn negative_numbers_are_bad_values_not_unknown_arguments() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 8] = [
+        (
+            &["render", SHOWCASE, "--aperture", "-3"],
+            "invalid value '-3' for '--aperture <PIXELS>': must be a number, 0 or more",
+        ),
+        (
+            &["render", SHOWCASE, "--focal", "-1"],
+            "invalid value '-1' for '--focal <RATIO>': must be a number above 0",
+        ),
+        (
+            &["render", SHOWCASE, "--light-samples", "0"],
+            "invalid value '0' for '--light-samples <N>': must be a whole number from 1 to 64",
+        ),
         (
             &["render", SHOWCASE, "--spp", "-1"],
             "invalid value '-1' for '--spp <N>': must be a whole number from 1 to 4096",
@@ -64,6 +77,40 @@ fn negative_numbers_are_bad_values_not_unknown_arguments() {
         assert!(line.contains(want), "{args:?}: {line}");
         assert!(!line.contains("unexpected argument"), "{line}");
     }
+}
+
+/// Issue 30, item D: a directory given as the output is called one (not an unknown
+/// image format), and a P3F file read as NFF gets a hint at its first P3F keyword.
+#[test]
+fn a_directory_output_and_a_p3f_file_read_as_nff_are_named() {
+    let dir = scratch("named");
+    let outdir = dir.join("outdir");
+    std::fs::create_dir(&outdir).unwrap();
+    let o = outdir.to_str().unwrap();
+    for args in [
+        &["render", SHOWCASE, "-o", o][..],
+        &["merge", SHOWCASE, "-o", o][..],
+    ] {
+        assert_eq!(
+            error_line(&nffrt(args), 4),
+            format!("nffrt: error: {o}: cannot write output: is a directory")
+        );
+    }
+    // Its first keyword, at line 3, is `accel`.
+    let p3f = std::fs::read(common::data_dir("ok").join("p3f_2025_every_keyword.p3f")).unwrap();
+    let line = error_line(&common::nffrt(&["info", "-"], &p3f), 3);
+    assert_eq!(
+        line,
+        r#"nffrt: error: <stdin>:3:1: unknown keyword "accel"; "accel" is a P3F keyword: is this a P3F file? (--format p3f)"#
+    );
+    let ok = common::nffrt(&["info", "-", "--format", "p3f"], &p3f);
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Item 7: a typo gets clap's suggestion, and the pointer to the help that lists the
@@ -177,7 +224,9 @@ fn a_byte_order_mark_is_skipped_and_binary_files_are_named() {
     assert!(bom.status.success(), "{}", String::from_utf8_lossy(&bom.stderr));
     let counts = |o: &Output| {
         let mut j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        // (The time and the file's name differ, not what it holds.)
         j.as_object_mut().unwrap().remove("parse_s");
+        j.as_object_mut().unwrap().remove("scene");
         j
     };
     assert_eq!(counts(&bom), counts(&plain));
@@ -198,5 +247,76 @@ fn a_byte_order_mark_is_skipped_and_binary_files_are_named() {
         line.ends_with("picture.png:2:1: not a text scene: binary data at byte offset 6 (0x1a)"),
         "{line}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 30, item E: the help names both languages; counts take their noun in the
+/// right number; f32 values print as the decimals they were given in; `info --json`
+/// has the camera and the scene's name that the text shows, and bounds that hold
+/// the primitives and no more.
+#[test]
+fn words_numbers_and_info_json_say_what_is_there() {
+    let top = help(&["--help"]);
+    let about = top.lines().next().unwrap();
+    assert!(
+        about.contains("NFF") && about.contains("P3F") && !about.contains("Whitted"),
+        "{about}"
+    );
+    for sub in ["render", "info", "bench"] {
+        let text = help(&[sub, "--help"]);
+        assert!(text.contains("Scene file, NFF or P3F"), "{sub}: {text}");
+    }
+
+    // One tile, one thread, one mesh: singular nouns.
+    let dir = scratch("words");
+    let tile = dir.join("all.png");
+    let tile = tile.to_str().unwrap();
+    let small = ["--width", "8", "--height", "6", "--threads", "1"];
+    let render = nffrt(
+        &[
+            &["render", SHOWCASE, "--region", "0,0,8,6", "-o", tile][..],
+            &small[..],
+        ]
+        .concat(),
+    );
+    let summary = String::from_utf8_lossy(&render.stderr).into_owned();
+    assert!(summary.ends_with(", 1 thread\n"), "{summary}");
+    let full = dir.join("full.png");
+    let merge = nffrt(&["merge", tile, "-o", full.to_str().unwrap()]);
+    let merged = String::from_utf8_lossy(&merge.stderr).into_owned();
+    assert!(merged.starts_with("merged 1 tile into "), "{merged}");
+    let p3f = common::data_dir("ok").join("p3f_2025_every_keyword.p3f");
+    let info = String::from_utf8(nffrt(&["info", p3f.to_str().unwrap()]).stdout).unwrap();
+    assert!(
+        info.contains("  meshes    1 triangle in 1 mesh (3 vertices)\n"),
+        "{info}"
+    );
+
+    // --focal 1.2 is reported as 1.2, in the JSON (standard output) and the text
+    // (standard error, out of the JSON's way).
+    let full_png = full.to_str().unwrap();
+    let stats = ["--focal", "1.2", "--stats", "--stats-json", "-", "-q"];
+    let out = nffrt(&[&["render", SHOWCASE, "-o", full_png][..], &small[..], &stats[..]].concat());
+    let (json, text) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(json.contains("\"focal\": 1.2,"), "{json}");
+    assert!(text.contains("\nfocal              1.2\n"), "{text}");
+
+    // info --json: the camera of the showcase's `v` block and its name.
+    let out = nffrt(&["info", "--json", SHOWCASE]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["scene"], SHOWCASE);
+    assert_eq!(
+        j["camera"],
+        serde_json::json!({"from": [0.5, -9.0, 3.2], "at": [0.3, 0.0, 1.1], "up": [0.0, 0.0, 1.0],
+                           "angle": 40.0, "resolution": [640, 480], "aperture": 0.0, "focal": 1.0})
+    );
+    // Everything in the showcase stands on the ground plane z = 0 (spheres of radius
+    // 1 and 1.2 centred at those heights, the box from 0, the cones' bases, the
+    // patches' lowest vertices) and the star's top vertex is at z = 3.7.
+    assert_eq!(j["bounds_min"][2], 0.0, "{}", j["bounds_min"]);
+    assert_eq!(j["bounds_max"][2], 3.7, "{}", j["bounds_max"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }

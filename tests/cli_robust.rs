@@ -323,7 +323,7 @@ fn an_unwritable_destination_is_refused_before_rendering() {
         assert!(!stderr(&out).contains("rendered"), "{dest}");
     }
     let out = nffrt(&["render", s(&scene), "-o", s(&dir)]);
-    fails_with(&out, 2, "unknown image format");
+    fails_with(&out, 4, "cannot write output: is a directory");
     let out = nffrt(&["render", s(&scene), "-o", s(&dir.join("sub.png/x.png"))]);
     fails_with(&out, 4, "cannot write output");
 }

@@ -9,7 +9,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::nffrt;
+use common::{nffrt, nffrt_in};
 use nffrt::image::decode_png;
 
 /// 640x480 (its `resolution` line).
@@ -65,22 +65,17 @@ fn stats_never_follow_the_image_on_standard_output() {
 #[test]
 fn stats_json_dash_is_standard_output() {
     let dir = scratch("stats_json_dash");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nffrt"))
-        .args([
-            "render",
-            SHOWCASE,
-            "-q",
-            "-o",
-            "a.png",
-            "--stats-json",
-            "-",
-            "--stats",
-        ])
-        .args(SMALL)
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    let o = ok(o);
+    let args = [
+        "render",
+        SHOWCASE,
+        "-q",
+        "-o",
+        "a.png",
+        "--stats-json",
+        "-",
+        "--stats",
+    ];
+    let o = ok(nffrt_in(&dir, &[&args[..], &SMALL[..]].concat()));
     assert!(!dir.join("-").exists(), "a file named '-' was written");
     let json: serde_json::Value =
         serde_json::from_slice(&o.stdout).expect("standard output is the JSON alone");

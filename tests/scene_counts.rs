@@ -192,8 +192,11 @@ fn stdin_gives_the_same_report_as_the_file() {
         let bytes = std::fs::read(path).expect("readable scene");
         let mut from_file = json_of(&info_json(path), scene);
         let mut from_stdin = json_of(&nffrt(&["info", "--json", "-"], &bytes), scene);
+        assert_eq!(from_stdin["scene"], "<stdin>");
         for j in [&mut from_file, &mut from_stdin] {
-            j.as_object_mut().expect("a JSON object").remove("parse_s");
+            let object = j.as_object_mut().expect("a JSON object");
+            object.remove("parse_s");
+            object.remove("scene");
         }
         assert_eq!(from_stdin, from_file, "{scene}");
     }

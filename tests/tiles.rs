@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::nffrt;
+use common::{nffrt, nffrt_in};
 
 const SHOWCASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/showcase.nff");
 /// An odd size, so no split is even.
@@ -89,6 +89,25 @@ fn seven_uneven_tiles_merge_into_the_full_render() {
     merged_equals_full("seven", &SEVEN, &[]);
 }
 
+/// Issue 30, item F: sRGB-encoded tiles merge into the full `--srgb` render, and
+/// never with linear ones.
+#[test]
+fn srgb_tiles_merge_alike_and_not_with_linear_ones() {
+    merged_equals_full("srgb", &FOUR, &["--srgb"]);
+    let dir = scratch("srgb_mixed");
+    render(&dir.join("top.png"), Some("0,0,61,30"), &["--srgb"]);
+    render(&dir.join("bottom.png"), Some("0,30,61,47"), &[]);
+    let png = nffrt::image::decode_png(&std::fs::read(dir.join("top.png")).unwrap()[..]).unwrap();
+    assert_eq!(png.text("nffrt:encoding"), Some("srgb"));
+    let (code, err) = merge_in(&dir, &["bottom.png", "top.png"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("top.png was written with --srgb and") && err.contains("bottom.png without"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn supersampled_tiles_merge_into_the_full_render() {
     merged_equals_full("spp", &SEVEN, &["--spp", "4"]);
@@ -152,7 +171,11 @@ fn broken_tile_sets_are_refused_with_the_reason() {
     let (code, err) = merge(&["left", "right4"]);
     assert_eq!(code, Some(3));
     assert!(
-        err.contains("right4.png was rendered with different settings"),
+        err.contains("left.png and ")
+            && err.ends_with(
+                "right4.png were rendered with different settings: \
+                 sampling PixelCenters against Stratified, spp none against 4\n"
+            ),
         "{err}"
     );
     let (code, err) = merge(&["left", "full"]);
@@ -202,15 +225,6 @@ fn fnv1a64(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h: u64, &b| {
         (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
     })
-}
-
-/// Runs nffrt in `dir` (for the default output names, which are relative).
-fn nffrt_in(dir: &Path, args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_nffrt"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
 }
 
 /// Merges `tiles` (in `dir`) into `dir/out.png`: the exit code and standard error.
@@ -279,7 +293,8 @@ fn tiles_without_a_fingerprint_or_of_another_depth_are_refused() {
     let (code, err) = merge_in(&dir, &["left.png", "right.png"]);
     assert_eq!(code, Some(3), "{err}");
     assert!(
-        err.contains("right.png was rendered with different settings"),
+        err.contains("left.png and ")
+            && err.ends_with("right.png were rendered with different settings: max_depth 5 against 2\n"),
         "{err}"
     );
     // An older nffrt's tile: the region and options chunks, no fingerprint.

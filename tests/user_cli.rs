@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::nffrt;
-use nffrt::image::{decode_pfm, decode_png, decode_ppm};
+use nffrt::image::{decode_exr, decode_pfm, decode_png, decode_ppm};
 
 const SHOWCASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/showcase.nff");
 const SMALL: [&str; 4] = ["--width", "40", "--height", "30"];
@@ -28,12 +28,15 @@ fn render_to(out: &Path, extra: &[&str]) -> std::process::Output {
 #[test]
 fn every_format_round_trips_to_the_same_pixels() {
     let dir = scratch("formats");
-    for ext in ["png", "ppm", "pfm"] {
+    for ext in ["png", "ppm", "pfm", "exr"] {
         render_to(&dir.join(format!("a.{ext}")), &["-q"]);
     }
     let png = decode_png(&std::fs::read(dir.join("a.png")).unwrap()[..]).unwrap();
     let (w, h, ppm) = decode_ppm(&std::fs::read(dir.join("a.ppm")).unwrap()).unwrap();
     let pfm = decode_pfm(&std::fs::read(dir.join("a.pfm")).unwrap()).unwrap();
+    // OpenEXR holds the PFM's linear floats exactly (32-bit channels, not 16).
+    let exr = decode_exr(&std::fs::read(dir.join("a.exr")).unwrap()).unwrap();
+    assert_eq!(exr, pfm);
     assert_eq!((png.width, png.height), (40, 30));
     assert_eq!((w, h), (40, 30));
     assert_eq!((pfm.width, pfm.height), (40, 30));
@@ -246,4 +249,33 @@ fn bench_reports_every_key_and_the_hand_counted_hits() {
     }
     assert_eq!(value("rays_hits"), "5");
     assert!(stdout.contains("packets of 8 consecutive rays"), "{stdout}");
+}
+
+/// Issue 30, item F: `--srgb` writes sRGB-encoded PNG and PPM; the float formats
+/// refuse it; linear stays the default.
+#[test]
+fn srgb_encodes_the_8_bit_formats_only() {
+    let dir = scratch("srgb");
+    for ext in ["png", "ppm"] {
+        render_to(&dir.join(format!("s.{ext}")), &["-q", "--srgb"]);
+    }
+    let png = decode_png(&std::fs::read(dir.join("s.png")).unwrap()[..]).unwrap();
+    let (_, _, ppm) = decode_ppm(&std::fs::read(dir.join("s.ppm")).unwrap()).unwrap();
+    assert_eq!(png.rgb, ppm);
+    // The background (0.1, 0.15, 0.3) through the sRGB curve, by hand: 1.055 *
+    // 0.1^(1/2.4) - 0.055 = 0.3492 -> 89; 0.15 -> 108; 0.3 -> 149 (linear: 26, 38, 77).
+    assert!(png.rgb.chunks(3).any(|p| p == [89, 108, 149]));
+    assert!(!png.rgb.chunks(3).any(|p| p == [26, 38, 77]));
+    for ext in ["pfm", "exr"] {
+        let out = dir.join(format!("s.{ext}"));
+        let o = nffrt(&["render", SHOWCASE, "--srgb", "-o", out.to_str().unwrap()], b"");
+        assert_eq!(o.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("holds linear floats; sRGB encoding is for 8-bit .png and .ppm"),
+            "{err}"
+        );
+        assert!(!out.exists());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -215,6 +215,36 @@ fn progressive_frames_end_in_exactly_the_rendered_picture() {
     }
 }
 
+/// Issue 30, item G: the viewer names a scene's dialect as `info` and
+/// `--stats-json` do (it said `p3f2019` where they said `p3f-2019`).
+#[test]
+fn the_dialect_has_one_name_everywhere() {
+    for (file, name) in [
+        ("p3f_2019_every_keyword.p3f", "p3f-2019"),
+        ("p3f_2025_every_keyword.p3f", "p3f-2025"),
+        ("comments_everywhere.nff", "nff"),
+    ] {
+        let path = common::data_dir("ok").join(file);
+        let server = Server::start(&path, &[]);
+        let mut c = server.connect();
+        assert_eq!(scene_of(&mut c)["dialect"], name, "{file}: the viewer");
+        let info = common::json_of(&common::info_json(&path), file);
+        assert_eq!(info["dialect"], name, "{file}: info");
+        let out = scratch("dialect").join("x.png");
+        let args = [
+            "render",
+            path.to_str().unwrap(),
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+            "--stats-json",
+            "-",
+        ];
+        let stats = common::json_of(&common::nffrt(&args, b""), file);
+        assert_eq!(stats["dialect"], name, "{file}: --stats-json");
+    }
+}
+
 #[test]
 fn after_a_camera_change_no_frame_of_the_old_camera_arrives() {
     let server = Server::start(&showcase(), &[]);

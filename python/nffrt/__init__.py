@@ -1,5 +1,5 @@
-"""nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural
-Databases) and P3F scenes, rendering into numpy arrays.
+"""nffrt: a fast ray tracer for NFF scenes (the Standard Procedural Databases)
+and P3F scenes (the IST course's extended NFF), rendering into numpy arrays.
 
 >>> import nffrt
 >>> scene = nffrt.parse(nffrt.gen("balls", size=1))

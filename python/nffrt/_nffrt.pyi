@@ -134,7 +134,7 @@ def gen(name: str, size: Optional[int] = None) -> str:
     """An SPD scene (balls, gears, mount, rings, teapot, tetra, tree) as NFF text."""
 
 def save(array: npt.ArrayLike, path: StrPath) -> None:
-    """Writes an ``(H, W, 3)`` image as PNG, PPM or PFM, by the extension."""
+    """Writes an ``(H, W, 3)`` image as PNG, PPM, PFM or OpenEXR, by the extension."""
 
 def to_png(array: npt.ArrayLike) -> bytes:
     """The PNG bytes ``save`` would write."""

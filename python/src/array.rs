@@ -6,11 +6,9 @@
 //! C API, so the module stays within the stable ABI; the one copy each way is a
 //! memcpy-sized cost beside a render.
 
-use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
-use nffrt::image::{Image, ImageFormat, SOFTWARE_TEXT};
+use nffrt::image::{Encoding, Image, ImageFormat, SOFTWARE_TEXT};
 use nffrt::math::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict};
@@ -73,6 +71,7 @@ pub fn encode(image: &Image, format: ImageFormat) -> Result<Vec<u8>, String> {
     format
         .encode(
             image,
+            Encoding::Linear,
             &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
             &mut bytes,
         )
@@ -81,18 +80,8 @@ pub fn encode(image: &Image, format: ImageFormat) -> Result<Vec<u8>, String> {
 }
 
 /// Writes `bytes` to `path` through a temporary file beside it, renamed into place
-/// once complete: a failed write leaves no partial file and the old one intact.
+/// once complete (`nffrt::output`, as the command line writes): a failed write
+/// leaves no partial file and the old one intact.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> PyResult<()> {
-    let name = path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
-    // Unique per process and call, so that concurrent saves never share one.
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let temp = path.with_file_name(format!(".{name}.{}-{n}.tmp", std::process::id()));
-    let written = std::fs::File::create(&temp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
-        .and_then(|()| std::fs::rename(&temp, path));
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(&temp);
-        io_error(path, &e)
-    })
+    nffrt::output::write_atomically(path, bytes).map_err(|e| io_error(path, &e))
 }

@@ -68,9 +68,9 @@ fn gen(py: Python<'_>, name: &str, size: Option<u32>) -> PyResult<String> {
 }
 
 /// Writes an `(H, W, 3)` image array to `path` as PNG or PPM (8-bit: each channel
-/// clamped to [0, 1], times 255, rounded) or PFM (linear floats), by the extension,
-/// exactly as `nffrt render` writes the same pixels. The file appears complete or
-/// not at all.
+/// clamped to [0, 1], times 255, rounded) or PFM or OpenEXR (linear floats), by the
+/// extension, exactly as `nffrt render` writes the same pixels. The file appears
+/// complete or not at all.
 #[pyfunction]
 fn save(py: Python<'_>, array: &Bound<'_, PyAny>, path: PathBuf) -> PyResult<()> {
     let format = format_of(&path)?;

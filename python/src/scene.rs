@@ -13,6 +13,7 @@ use nffrt::nff::Format;
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{image_size, RenderOptions, RenderRequest, Stats};
 use nffrt::scene::{Dialect, Light, SceneInfo};
+use nffrt::words::shortest_f64;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
@@ -117,8 +118,10 @@ pub fn text_bytes<'a>(text: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [u8]>> {
     ))
 }
 
-fn vec3(v: Vec3) -> (f32, f32, f32) {
-    (v.x, v.y, v.z)
+/// A vector as Python floats: each f32 as the decimal it prints as (`-1.6`, not
+/// the `-1.600000023841858` of its exact value).
+fn vec3(v: Vec3) -> (f64, f64, f64) {
+    (shortest_f64(v.x), shortest_f64(v.y), shortest_f64(v.z))
 }
 
 impl PyScene {
@@ -276,10 +279,9 @@ impl PyScene {
     #[getter]
     fn format(&self) -> &'static str {
         match (self.format, self.info().dialect) {
-            (_, Dialect::P3f2019) => "p3f-2019",
-            (_, Dialect::P3f2025) => "p3f-2025",
+            // (P3F text with no keyword of either dialect's own.)
             (Format::P3f, Dialect::Nff) => "p3f",
-            (Format::Nff, Dialect::Nff) => "nff",
+            (_, dialect) => dialect.name(),
         }
     }
 
@@ -328,12 +330,12 @@ impl PyScene {
         d.set_item("from", vec3(v.from))?;
         d.set_item("at", vec3(v.at))?;
         d.set_item("up", vec3(v.up))?;
-        d.set_item("angle", v.angle)?;
-        d.set_item("hither", v.hither)?;
+        d.set_item("angle", shortest_f64(v.angle))?;
+        d.set_item("hither", shortest_f64(v.hither))?;
         d.set_item("width", v.width)?;
         d.set_item("height", v.height)?;
-        d.set_item("aperture", v.aperture)?;
-        d.set_item("focal", v.focal)?;
+        d.set_item("aperture", shortest_f64(v.aperture))?;
+        d.set_item("focal", shortest_f64(v.focal))?;
         Ok(d)
     }
 
@@ -359,14 +361,14 @@ impl PyScene {
 
     /// The background colour.
     #[getter]
-    fn background(&self) -> (f32, f32, f32) {
+    fn background(&self) -> (f64, f64, f64) {
         vec3(self.info().background)
     }
 
     /// `(min, max)` corners of the bounded primitives (planes excluded), or `None`.
     #[getter]
     #[allow(clippy::type_complexity)]
-    fn bounds(&self) -> Option<((f32, f32, f32), (f32, f32, f32))> {
+    fn bounds(&self) -> Option<((f64, f64, f64), (f64, f64, f64))> {
         let b = self.info().bounds;
         (!b.is_empty()).then(|| (vec3(b.min), vec3(b.max)))
     }

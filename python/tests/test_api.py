@@ -102,8 +102,28 @@ def test_p3f_text_parses_with_format() -> None:
     text = "\n".join(l for l in text.splitlines() if not l.startswith("env "))
     scene = nffrt.parse(text, format="p3f")
     assert scene.format == "p3f-2025" and scene.path is None
-    with pytest.raises(nffrt.SceneError):
+    with pytest.raises(nffrt.SceneError) as caught:
         nffrt.parse(text)  # P3F keywords are not NFF
+    # The first P3F keyword gets the hint (issue 30, item D).
+    word = caught.value.message.split('"')[1]
+    assert caught.value.message.endswith(
+        f'"{word}" is a P3F keyword: is this a P3F file? (--format p3f)'
+    ), caught.value.message
+
+
+def test_camera_values_are_the_decimals_of_the_file() -> None:
+    """Issue 30, item E: each f32 comes back as the decimal written in the file, not
+    its binary expansion (-1.600000023841858)."""
+    scene = nffrt.parse(
+        "v from -1.6 0.1 5 at 0 0 0 up 0 1 0 angle 40.3 hither 0.01 resolution 8 6\n"
+        "b 0.1 0.15 0.3\nl 1.2 2 3\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1.2\n"
+    )
+    cam = scene.camera
+    assert cam["from"] == (-1.6, 0.1, 5.0)
+    assert (cam["angle"], cam["hither"]) == (40.3, 0.01)
+    assert scene.background == (0.1, 0.15, 0.3)
+    assert scene.lights[0]["position"] == (1.2, 2.0, 3.0)
+    assert scene.bounds == ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
 
 
 def ok_files() -> list[Path]:

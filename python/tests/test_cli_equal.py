@@ -38,11 +38,13 @@ def test_array_equals_the_clis_pfm(nffrt_bin: str, tmp_path: Path, rel: str, kwa
     assert got.tobytes() == want.tobytes()
 
 
-def test_saved_png_is_the_clis_png(nffrt_bin: str, tmp_path: Path) -> None:
+@pytest.mark.parametrize("ext", ["png", "exr"])
+def test_saved_file_is_the_clis_file(nffrt_bin: str, tmp_path: Path, ext: str) -> None:
     path = shared("spd", "rings.nff")
-    run_cli(nffrt_bin, "render", str(path), "-q", "--width", "100", "--height", "75", "-o", str(tmp_path / "cli.png"))
-    nffrt.save(nffrt.load(path).render(width=100, height=75), tmp_path / "py.png")
-    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    cli = tmp_path / f"cli.{ext}"
+    run_cli(nffrt_bin, "render", str(path), "-q", "--width", "100", "--height", "75", "-o", str(cli))
+    nffrt.save(nffrt.load(path).render(width=100, height=75), tmp_path / f"py.{ext}")
+    assert (tmp_path / f"py.{ext}").read_bytes() == cli.read_bytes()
 
 
 def test_a_region_is_the_full_renders_crop_in_8_bits_too(nffrt_bin: str, tmp_path: Path) -> None:

@@ -17,6 +17,7 @@ use nffrt::geometry::build_geometry;
 use nffrt::limits::MAX_THREADS;
 use nffrt::math::{Ray, Vec3};
 use nffrt::render::{Camera, RenderOptions, Sampling};
+use nffrt::words::count;
 
 /// Arguments of `nffrt bench`.
 #[derive(Args, Debug)]
@@ -24,7 +25,7 @@ use nffrt::render::{Camera, RenderOptions, Sampling};
     "Refuse more than N primary rays (the scene's width x height) or --random rays"
 )))]
 pub struct BenchArgs {
-    /// Scene file (NFF); `-` reads standard input.
+    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Also trace the rays in FILE: raw little-endian float32 rows `ox oy oz dx dy dz`,
     /// 24 bytes a ray (BENCHMARKS.md shows how to dump another tracer's rays).
@@ -87,8 +88,14 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     let build_ms = median(&mut builds);
     let st = bvh.stats();
     outln!(
-        "{}: {} primitives, build {:.2} ms (median), {} nodes, depth {}, leaves {:.2} prims avg, SAH cost {:.2}",
-        loaded.name, st.primitives, build_ms, st.nodes, st.depth, st.mean_leaf, st.sah_cost
+        "{}: {}, build {:.2} ms (median), {}, depth {}, leaves {:.2} prims avg, SAH cost {:.2}",
+        loaded.name,
+        count(st.primitives, "primitive", "primitives"),
+        build_ms,
+        count(st.nodes, "node", "nodes"),
+        st.depth,
+        st.mean_leaf,
+        st.sah_cost
     );
 
     let (w, h) = (scene.view.width, scene.view.height);
@@ -129,9 +136,9 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
         let packets = time_packets(&pool, rays, args.repeat, &bvh);
         outln!(
-            "{name:>8}: {} rays, {} hits; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
-            rays.len(),
-            closest.hits,
+            "{name:>8}: {}, {}; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
+            count(rays.len(), "ray", "rays"),
+            count(closest.hits, "hit", "hits"),
             closest.median_mrays,
             closest.best_mrays,
             occl.median_mrays,
@@ -139,11 +146,11 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             occl.hits
         );
         outln!(
-            "{:>8}  packets of {PACKET} consecutive rays: closest hit {:.2} Mrays/s (best {:.2}), {} hits",
+            "{:>8}  packets of {PACKET} consecutive rays: closest hit {:.2} Mrays/s (best {:.2}), {}",
             "",
             packets.median_mrays,
             packets.best_mrays,
-            packets.hits
+            count(packets.hits, "hit", "hits")
         );
         if packets.hits != closest.hits {
             return Err(CliError::io(format!(

@@ -1,15 +1,15 @@
 //! `nffrt gen`: writes one of the SPD's classic scenes as NFF, to standard output
 //! or, through a temporary file renamed when complete, to a file.
 
-use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
+use nffrt::image::ImageFormat;
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
 
 /// Arguments of `nffrt gen`.
@@ -61,23 +61,28 @@ fn size_table() -> String {
 
 /// Runs `nffrt gen`.
 pub fn run(args: GenArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.output {
+        refuse_image_name(path)?;
+    }
     let size = args.size.unwrap_or(args.name.default_size());
     let scene = generate(args.name, size)
         .map_err(|e| CliError::usage(format!("invalid value '{size}' for '--size <N>': {e}")))?;
     match args.output.as_deref() {
-        None => write_stdout(&scene),
-        Some(p) if p == Path::new("-") => write_stdout(&scene),
+        None => write_stdout(|mut w| write_nff(&scene, &mut w)),
+        Some(p) if p == Path::new("-") => write_stdout(|mut w| write_nff(&scene, &mut w)),
         Some(p) => write_file(&scene, p),
     }
 }
 
-fn write_stdout(scene: &Scene) -> Result<(), CliError> {
-    let mut w = BufWriter::with_capacity(1 << 16, io::stdout().lock());
-    match write_nff(scene, &mut w).and_then(|()| w.flush()) {
-        Ok(()) => Ok(()),
-        // The reader stopped early (`nffrt gen balls | head`): not our failure.
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(CliError::io(format!("writing standard output: {e}"))),
+/// Refuses an output named like an image: `gen` writes scene text, and a picture
+/// of that name is more likely than a scene to be what the user meant to keep.
+fn refuse_image_name(path: &Path) -> Result<(), CliError> {
+    match ImageFormat::from_extension(path) {
+        Some(_) => Err(CliError::usage(format!(
+            "-o {}: gen writes NFF scene text, not an image; name the output .nff",
+            path.display()
+        ))),
+        None => Ok(()),
     }
 }
 

@@ -1,18 +1,23 @@
 //! Where `nffrt render` and `nffrt merge` put images: the format chosen by the file
-//! extension ([`ImageFormat`]), `-` for PNG on standard output, files written whole
-//! or not at all.
+//! extension ([`ImageFormat`]), `-` for PNG on standard output, 8-bit values linear
+//! or sRGB-encoded, files written whole or not at all.
 
 use std::io::{self, IsTerminal, Write};
 use std::path::Path;
 
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
-use nffrt::image::{encode_png_rgb8, png_error, Image, ImageFormat};
+use nffrt::image::{encode_png_rgb8, png_error, Encoding, Image, ImageFormat};
 
-/// The format of `path` by its extension; `-` (standard output) is PNG.
+/// The format of `path` by its extension; `-` (standard output) is PNG. A
+/// directory is no image file, whatever its name.
 pub fn format_of(path: &Path) -> Result<ImageFormat, CliError> {
     if is_stdout(path) {
         return Ok(ImageFormat::Png);
+    }
+    if path.is_dir() {
+        let e = io::Error::new(io::ErrorKind::IsADirectory, "is a directory");
+        return Err(cannot_write(path.display(), &e));
     }
     ImageFormat::from_extension(path).ok_or_else(|| CliError::usage(ImageFormat::unknown(path)))
 }
@@ -55,14 +60,16 @@ impl Destination {
         }
     }
 
-    /// Encodes `image` and completes the output. `text` goes into PNG text chunks.
+    /// Encodes `image` (8-bit formats in `encoding`) and completes the output.
+    /// `text` goes into PNG text chunks.
     pub fn write_image(
         self,
         image: &Image,
         format: ImageFormat,
+        encoding: Encoding,
         text: &[(&str, String)],
     ) -> Result<(), CliError> {
-        self.write_with(|w| format.encode(image, text, w))
+        self.write_with(|w| format.encode(image, encoding, text, w))
     }
 
     /// Encodes raw 8-bit RGB as PNG and completes the output.
@@ -86,13 +93,7 @@ impl Destination {
                 // Encode fully first, so a failed encode writes nothing.
                 let mut bytes = Vec::new();
                 encode(&mut bytes).map_err(|e| CliError::io(format!("encoding the image: {e}")))?;
-                let mut out = io::stdout().lock();
-                match out.write_all(&bytes).and_then(|()| out.flush()) {
-                    Ok(()) => Ok(()),
-                    // The reader stopped early: not our failure.
-                    Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-                    Err(e) => Err(CliError::io(format!("writing standard output: {e}"))),
-                }
+                write_stdout(|w| w.write_all(&bytes))
             }
         }
     }

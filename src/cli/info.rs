@@ -10,12 +10,13 @@ use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
-use nffrt::scene::{Accel, Dialect, Integrator};
+use nffrt::scene::{Accel, Integrator};
+use nffrt::words::count;
 
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene file (NFF); `-` reads standard input.
+    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
@@ -52,10 +53,44 @@ fn bvh_info(scene: &nffrt::Scene) -> BvhInfo {
     }
 }
 
+/// The camera as `info --json` gives it (f32 values, written as their shortest
+/// decimals).
+#[derive(Serialize)]
+struct CameraJson {
+    from: [f32; 3],
+    at: [f32; 3],
+    up: [f32; 3],
+    /// Vertical field of view, degrees.
+    angle: f32,
+    /// Width and height in pixels.
+    resolution: [u32; 2],
+    /// Lens diameter in pixels (0: a pinhole).
+    aperture: f32,
+    /// Focal distance over |from - at|.
+    focal: f32,
+}
+
+impl CameraJson {
+    fn of(v: &nffrt::scene::View) -> CameraJson {
+        CameraJson {
+            from: v.from.to_array(),
+            at: v.at.to_array(),
+            up: v.up.to_array(),
+            angle: v.angle,
+            resolution: [v.width, v.height],
+            aperture: v.aperture,
+            focal: v.focal,
+        }
+    }
+}
+
 #[derive(Serialize)]
 struct InfoJson {
+    /// The scene file as named on the command line (`<stdin>` for `-`).
+    scene: String,
     /// `nff`, `p3f-2019` or `p3f-2025`.
     dialect: &'static str,
+    camera: CameraJson,
     /// P3F `accel` as written, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     accel: Option<Accel>,
@@ -110,7 +145,9 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let bvh = args.bvh.then(|| bvh_info(s));
     if args.json {
         let j = InfoJson {
-            dialect: dialect_name(s.dialect),
+            scene: loaded.name.clone(),
+            dialect: s.dialect.name(),
+            camera: CameraJson::of(&s.view),
             accel: s.accel,
             spp: s.spp,
             integrator: s.integrator,
@@ -162,7 +199,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         v.up.z,
         v.angle
     );
-    outln!("format      {}", dialect_name(s.dialect));
+    outln!("format      {}", s.dialect.name());
     if let Some(a) = s.accel {
         outln!(
             "accel       {} (as the file asks; nffrt builds its BVH)",
@@ -189,8 +226,8 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     if v.aperture > 0.0 {
         outln!(
-            "lens        aperture {} pixels, focal {} x the view distance",
-            v.aperture,
+            "lens        aperture {}, focal {} x the view distance",
+            count(v.aperture, "pixel", "pixels"),
             v.focal
         );
     }
@@ -221,11 +258,11 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     if !s.meshes.is_empty() {
         outln!(
-            "  {:<10}{} triangles in {} meshes ({} vertices)",
+            "  {:<10}{} in {} ({})",
             "meshes",
-            s.mesh_triangles.len(),
-            s.meshes.len(),
-            s.mesh_vertices.len()
+            count(s.mesh_triangles.len(), "triangle", "triangles"),
+            count(s.meshes.len(), "mesh", "meshes"),
+            count(s.mesh_vertices.len(), "vertex", "vertices")
         );
     }
     match bounds {
@@ -239,15 +276,6 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     print_warnings(&loaded, 20);
     Ok(())
-}
-
-/// The scene's language as `info` names it.
-fn dialect_name(d: Dialect) -> &'static str {
-    match d {
-        Dialect::Nff => "nff",
-        Dialect::P3f2019 => "p3f-2019",
-        Dialect::P3f2025 => "p3f-2025",
-    }
 }
 
 fn accel_name(a: Accel) -> &'static str {
@@ -290,7 +318,11 @@ fn print_bvh(b: &BvhInfo) {
     if let (Some(lo), Some(hi)) = (b.bounds_min, b.bounds_max) {
         outln!("  bounds      {lo:?} .. {hi:?}");
     }
-    outln!("  nodes       {} ({} leaves)", s.nodes, s.leaves);
+    outln!(
+        "  nodes       {} ({})",
+        s.nodes,
+        count(s.leaves, "leaf", "leaves")
+    );
     outln!("  depth       {}", s.depth);
     outln!(
         "  leaf size   min {}, mean {:.2}, max {}",

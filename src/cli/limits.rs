@@ -13,6 +13,7 @@ use nffrt::limits::{
 };
 use nffrt::nff::{Format, Limits};
 use nffrt::render::Sampling;
+use nffrt::words::count;
 
 /// How a scene file is read, and the limits on what it may make nffrt read and build.
 #[derive(Args, Debug, Clone)]
@@ -107,8 +108,9 @@ impl RenderLimitArgs {
         let grid = eye_grid_points(width, height, sampling);
         if grid > self.max_pixels {
             let message = format!(
-                "{width}x{height} is {grid} pixels, more than the limit of {} (--max-pixels raises it; \
+                "{width}x{height} is {}, more than the limit of {} (--max-pixels raises it; \
                  the image takes about 24 bytes per pixel while rendering)",
+                count(grid, "pixel", "pixels"),
                 self.max_pixels
             );
             return Err(if from_flags {

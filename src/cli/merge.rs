@@ -6,18 +6,20 @@
 //! must agree on both, lie inside the image, not overlap and cover it; the merged PNG
 //! carries only the text chunks of a full render.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::image_out::{display_name, format_of, Destination};
-use super::output::brief;
+use super::output::{brief, refuse_overwriting, Named};
 use super::CliError;
 use nffrt::image::decode_png;
 use nffrt::image::tiles::{
-    merge_tiles, parse_region_text, Tile, TileFingerprint, FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
+    merge_tiles, parse_encoding_text, parse_region_text, Tile, TileFingerprint, ENCODING_KEY,
+    FINGERPRINT_KEY, OPTIONS_KEY, REGION_KEY,
 };
 use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
+use nffrt::words::count;
 
 /// Arguments of `nffrt merge`.
 #[derive(Args, Debug)]
@@ -41,14 +43,16 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
+    let inputs: Vec<(&Path, &str)> = args.tiles.iter().map(|t| (t.as_path(), "the tile")).collect();
+    refuse_overwriting(&[Named::flag("-o", &args.output)], &inputs)?;
     let tiles = args.tiles.iter().map(read_tile).collect::<Result<Vec<_>, _>>()?;
     let (w, h, rgb) = merge_tiles(&tiles).map_err(CliError::scene)?;
     let output = Destination::create(&args.output)?;
     output.write_png_rgb8(w, h, &rgb, &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())])?;
     if !args.quiet {
         eprintln!(
-            "merged {} tiles into {} ({w}x{h})",
-            tiles.len(),
+            "merged {} into {} ({w}x{h})",
+            count(tiles.len(), "tile", "tiles"),
             display_name(&args.output)
         );
     }
@@ -86,6 +90,8 @@ fn read_tile(path: &PathBuf) -> Result<Tile, CliError> {
     })?;
     let fingerprint =
         TileFingerprint::parse(fingerprint).map_err(|e| CliError::scene(format!("{name}: {e}")))?;
+    let encoding =
+        parse_encoding_text(png.text(ENCODING_KEY)).map_err(|e| CliError::scene(format!("{name}: {e}")))?;
     Ok(Tile {
         name,
         region,
@@ -93,6 +99,7 @@ fn read_tile(path: &PathBuf) -> Result<Tile, CliError> {
         full_height,
         fingerprint,
         settings: png.text(OPTIONS_KEY).unwrap_or("not recorded").to_string(),
+        encoding,
         rgb: png.rgb,
     })
 }

@@ -79,7 +79,8 @@ impl CliError {
     }
 }
 
-/// nffrt: a fast Whitted ray tracer for NFF scenes (the Standard Procedural Databases).
+/// nffrt: a fast, correct ray tracer for NFF scenes (the Standard Procedural Databases)
+/// and P3F scenes (the IST course's extended NFF).
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None, propagate_version = true)]
 #[command(
@@ -97,7 +98,8 @@ enum Command {
     Gen(gen::GenArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
-    /// Render a scene to an image (PNG, PPM or PFM), a tile of it, or trace one pixel.
+    /// Render a scene to an image (PNG, PPM, PFM or OpenEXR), a tile of it, or trace one
+    /// pixel.
     Render(render::RenderArgs),
     /// Assemble the PNG tiles of `render --region` into the full image.
     Merge(merge::MergeArgs),

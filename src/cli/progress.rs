@@ -10,6 +10,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::interrupt;
 use nffrt::render::Observer;
+use nffrt::words::count;
 
 /// How progress is shown on standard error.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,9 +81,9 @@ impl Progress {
         if tenths > *shown {
             *shown = tenths;
             eprintln!(
-                "progress: {}% ({rows_done} of {} rows), {:.1} Mrays/s",
+                "progress: {}% ({rows_done} of {}), {:.1} Mrays/s",
                 tenths * 10,
-                self.rows,
+                count(self.rows, "row", "rows"),
                 self.mrays_per_s(rays)
             );
         }

@@ -9,7 +9,7 @@ use clap::Args;
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
 use super::load::{load_scene, print_warnings, Need};
-use super::output::{cannot_write, AtomicOutput};
+use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput, Named};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
@@ -17,21 +17,22 @@ use super::{interrupt, pixel, CliError};
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
-use nffrt::image::{ImageFormat, SOFTWARE_TEXT};
+use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::prepare::prepare;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, RenderRequest, Resolved};
 use nffrt::scene::SceneInfo;
+use nffrt::words::count;
 
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file (NFF); `-` reads standard input.
+    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
-    /// Output image: .png (8-bit), .ppm (binary P6) or .pfm (linear float); `-` writes
-    /// PNG to standard output. Default: the scene's file stem + .png in the current
-    /// directory, or with --region the stem + .X0-Y0-X1-Y1.png (a tile never takes
-    /// the full picture's name).
+    /// Output image: .png (8-bit), .ppm (binary P6, 8-bit), .pfm or .exr (linear
+    /// float); `-` writes PNG to standard output. Default: the scene's file stem +
+    /// .png in the current directory, or with --region the stem + .X0-Y0-X1-Y1.png
+    /// (a tile never takes the full picture's name).
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// Image width, 1 to 32768 (default: the scene's). Given alone, the height follows
@@ -64,26 +65,35 @@ pub struct RenderArgs {
     pub spp: Option<u32>,
     /// Lens diameter in pixels of the view plane (depth of field; 0 is a pinhole).
     /// Default: the scene's (P3F `aperture`), else 0.
-    #[arg(long, value_name = "PIXELS", value_parser = non_negative)]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true,
+          value_parser = values::number_at_least_zero)]
     pub aperture: Option<f32>,
     /// Distance of the plane of sharp focus, as a multiple of the distance from the
     /// camera to its look-at point. Default: the scene's (P3F `focal`), else 1.
-    #[arg(long, value_name = "RATIO", value_parser = positive)]
+    #[arg(long, value_name = "RATIO", allow_negative_numbers = true,
+          value_parser = values::number_above_zero)]
     pub focal: Option<f32>,
     /// Sample every area light on an N x N grid at every hit, whatever the sampling
     /// (default: the light's own grid with one sample per pixel, one point per
     /// sample with more); 1 to 64.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_LIGHT_SAMPLES as i64))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(1, MAX_LIGHT_SAMPLES as u64))]
     pub light_samples: Option<u32>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;
     /// `nffrt merge` assembles tiles.
     #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true, value_parser = values::region)]
     pub region: Option<Region>,
+    /// 8-bit pictures (PNG, PPM) sRGB-encoded, as POV-Ray and pbrt write them. The
+    /// default is linear: each channel clamped to [0, 1] and scaled, as the SPD's and
+    /// the course's pictures are, for NFF and P3F alike. Not with .pfm or .exr,
+    /// which hold the linear values; a tile records it, and merge refuses to mix.
+    #[arg(long)]
+    pub srgb: bool,
     /// Trace only pixel X,Y (column and row, from 0) and print its ray tree to standard
-    /// output: no image, so not with --output, --region, --stats or --stats-json.
+    /// output: no image, so not with --output, --region, --srgb, --stats or --stats-json.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = values::pixel,
-          conflicts_with_all = ["region", "output", "stats", "stats_json"])]
+          conflicts_with_all = ["region", "output", "srgb", "stats", "stats_json"])]
     pub pixel: Option<(u32, u32)>,
     /// Print the settings (size, region, sampling, depth), ray counts and timings; to
     /// standard error when standard output carries the image or the JSON.
@@ -117,6 +127,32 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     }
 }
 
+/// The 8-bit encoding `--srgb` asks for; refused for the float formats.
+fn encoding(args: &RenderArgs, format: ImageFormat, out_path: &Path) -> Result<Encoding, CliError> {
+    match (args.srgb, format.is_8bit()) {
+        (false, _) => Ok(Encoding::Linear),
+        (true, true) => Ok(Encoding::Srgb),
+        (true, false) => Err(CliError::usage(format!(
+            "--srgb: {} holds linear floats; sRGB encoding is for 8-bit .png and .ppm",
+            out_path.display()
+        ))),
+    }
+}
+
+/// Refuses an image or stats file that would replace the scene file, or each other.
+fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), CliError> {
+    let image = match &args.output {
+        Some(path) => Named::flag("-o", path),
+        None => Named {
+            path: out_path,
+            named: format!("the default output {}", out_path.display()),
+        },
+    };
+    let stats = args.stats_json.as_deref().map(|p| Named::flag("--stats-json", p));
+    let outputs: Vec<Named<'_>> = std::iter::once(image).chain(stats).collect();
+    refuse_overwriting(&outputs, &[(&args.scene, "the scene file")])
+}
+
 /// What `args` ask of the render.
 pub fn request(args: &RenderArgs) -> RenderRequest {
     RenderRequest {
@@ -144,22 +180,6 @@ pub fn resolve(args: &RenderArgs, scene: &SceneInfo) -> Result<RenderOptions, Cl
     Ok(opts)
 }
 
-/// A finite number of at least 0 (for `--aperture`).
-fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("'{s}' is not a finite number of at least 0")),
-    }
-}
-
-/// A finite number above 0 (for `--focal`).
-fn positive(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("'{s}' is not a finite number above 0")),
-    }
-}
-
 /// Runs `nffrt render`.
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
     if let Some(xy) = args.pixel {
@@ -167,6 +187,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
+    let encoding = encoding(&args, format, &out_path)?;
+    refuse_overwriting_inputs(&args, &out_path)?;
     if args.region.is_some() && format != ImageFormat::Png {
         return Err(CliError::usage(format!(
             "{}: --region writes PNG tiles (their place is kept in a PNG text chunk)",
@@ -184,7 +206,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError::io(format!("cannot start {threads} threads: {e}")))?;
+        .map_err(|e| {
+            CliError::io(format!(
+                "cannot start {}: {e}",
+                count(threads, "thread", "threads")
+            ))
+        })?;
     let need = if args.region.is_some() {
         Need::Tile
     } else {
@@ -224,8 +251,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
     if let Some(scene_print) = loaded.fingerprint {
         text.extend(tile_text(&region, &opts, scene_print));
+        text.extend(tiles::encoding_text(encoding));
     }
-    output.write_image(&image, format, &text)?;
+    output.write_image(&image, format, encoding, &text)?;
 
     let report = StatsReport::new(
         stats::settings(&opts, &region, threads, &info, skybox),
@@ -237,7 +265,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;
     } else if json_to_stdout {
-        outln!("{}", report.json());
+        write_stdout(|w| writeln!(w, "{}", report.json()))?;
     }
     if args.stats {
         // Standard output carrying an image or JSON holds nothing else.
@@ -254,18 +282,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             format!(" (region {region})")
         };
         eprintln!(
-            "rendered {} in {:.2} s (load {:.2}, build {:.2}, render {:.2} s): {} rays, {:.1} Mrays/s, {}x{}{crop}, {}, {} threads",
+            "rendered {} in {:.2} s (load {:.2}, build {:.2}, render {:.2} s): {}, {:.1} Mrays/s, {}x{}{crop}, {}, {}",
             display_name(&out_path),
             load_s + build_s + render_s,
             load_s,
             build_s,
             render_s,
-            report.total_rays,
+            count(report.total_rays, "ray", "rays"),
             report.mrays_per_s,
             opts.width,
             opts.height,
             opts.sampling,
-            threads
+            count(threads, "thread", "threads")
         );
     }
     Ok(())

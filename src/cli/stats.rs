@@ -11,6 +11,7 @@ use serde_json::{json, Value};
 use nffrt::image::Region;
 use nffrt::render::{RenderOptions, Sampling, Stats};
 use nffrt::scene::SceneInfo;
+use nffrt::words::shortest_f64;
 
 /// The settings of a render, in report order: `(JSON key, value)`; the text report
 /// labels each with its key, underscores as spaces.
@@ -32,7 +33,8 @@ impl Serialize for Settings {
 /// per pixel ([`Sampling::samples_per_pixel`]: 1 for `--spd`, whose corner rays each
 /// pixel shares with its neighbours), the depth, and the effects in use: the lens
 /// (aperture in pixels, 0 for a pinhole, and focal ratio, from the flags or the
-/// scene), the area lights and how they are sampled, the skybox, the shading model.
+/// scene), the area lights and how they are sampled, the skybox, the scene's
+/// dialect and shading model.
 pub fn settings(
     opts: &RenderOptions,
     region: &Region,
@@ -65,11 +67,19 @@ pub fn settings(
         ("samples_per_pixel", json!(spp)),
         ("max_depth", json!(opts.max_depth)),
         ("threads", json!(threads)),
-        ("aperture", json!(opts.aperture.unwrap_or(scene.view.aperture))),
-        ("focal", json!(opts.focal.unwrap_or(scene.view.focal))),
+        // (JSON numbers are f64: each f32 as the decimal it prints as, `1.2`.)
+        (
+            "aperture",
+            json!(shortest_f64(opts.aperture.unwrap_or(scene.view.aperture))),
+        ),
+        (
+            "focal",
+            json!(shortest_f64(opts.focal.unwrap_or(scene.view.focal))),
+        ),
         ("area_lights", json!(area_lights)),
         ("light_sampling", json!(light_sampling)),
         ("skybox", json!(skybox)),
+        ("dialect", json!(scene.dialect.name())),
         ("shading", json!(shading)),
     ])
 }
@@ -178,6 +188,7 @@ mod tests {
             width: 9,
             height: 9,
             sampling: Sampling::Stratified { spp: 4 },
+            focal: Some(1.2),
             ..RenderOptions::default()
         };
         let region = Region::parse("0,0,5,5").unwrap();
@@ -203,6 +214,10 @@ mod tests {
         }
         let json: Value = serde_json::from_str(&report.json()).unwrap();
         assert_eq!(json["region"], json!([0, 0, 5, 5]));
+        // f32 settings as the decimals they were given in, not their f64 expansion.
+        assert_eq!(json["focal"], json!(1.2));
+        assert!(report.json().contains(r#""focal": 1.2,"#), "{}", report.json());
+        assert!(text.contains("focal              1.2\n"), "{text}");
         assert_eq!(json["samples_per_pixel"], 4);
         assert_eq!(json["eye_rays"], 100);
         assert_eq!(json["total_rays"], 100);

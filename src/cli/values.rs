@@ -30,6 +30,25 @@ pub fn whole_number<T: TryFrom<u64>>(
     }
 }
 
+/// A clap value parser for a finite number of at least 0 (`--aperture`), whose
+/// error says so in the words of [`whole_number_range`].
+pub fn number_at_least_zero(s: &str) -> Result<f32, String> {
+    finite(s)
+        .filter(|&v| v >= 0.0)
+        .ok_or_else(|| "must be a number, 0 or more".into())
+}
+
+/// A clap value parser for a finite number above 0 (`--focal`).
+pub fn number_above_zero(s: &str) -> Result<f32, String> {
+    finite(s)
+        .filter(|&v| v > 0.0)
+        .ok_or_else(|| "must be a number above 0".into())
+}
+
+fn finite(s: &str) -> Option<f32> {
+    s.trim().parse::<f32>().ok().filter(|v| v.is_finite())
+}
+
 /// A clap value parser for `--pixel X,Y`: a column and a row, counted from 0.
 pub fn pixel(s: &str) -> Result<(u32, u32), String> {
     let v = parse_u32s(s, 2).map_err(|e| format!("{e} (X,Y: column and row, from 0)"))?;
@@ -61,6 +80,27 @@ mod tests {
         assert_eq!(bytes("-3"), Err("must be a whole number, 0 or more".into()));
         // The type's own range counts too.
         assert!(whole_number::<u32>(0, 1 << 40)("4294967296").is_err());
+    }
+
+    #[test]
+    fn real_numbers_say_their_range_in_words() {
+        assert_eq!(number_at_least_zero("0"), Ok(0.0));
+        assert_eq!(number_at_least_zero("2.5"), Ok(2.5));
+        for bad in ["-3", "-0.1", "inf", "NaN", "x", ""] {
+            assert_eq!(
+                number_at_least_zero(bad),
+                Err("must be a number, 0 or more".into()),
+                "{bad}"
+            );
+        }
+        assert_eq!(number_above_zero("1.2"), Ok(1.2));
+        for bad in ["0", "-1", "inf", "y"] {
+            assert_eq!(
+                number_above_zero(bad),
+                Err("must be a number above 0".into()),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

@@ -99,13 +99,7 @@ impl ConeShape {
     /// Bounding box of the disc of radius `r` around `centre` across the axis: a
     /// disc of radius r and unit normal w reaches r·√(1 − w_i²) along axis i.
     fn disc_bounds(&self, centre: Vec3, r: f32) -> Aabb {
-        let w = self.axis;
-        let reach = Vec3::new(
-            r * (1.0 - w.x * w.x).max(0.0).sqrt(),
-            r * (1.0 - w.y * w.y).max(0.0).sqrt(),
-            r * (1.0 - w.z * w.z).max(0.0).sqrt(),
-        );
-        Aabb::new(centre - reach, centre + reach)
+        Aabb::of_disc(centre, self.axis, r)
     }
 
     /// Phase one: the nearest hit with `0 < t < t_max` whose axial coordinate lies in

@@ -29,13 +29,43 @@ impl Image {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// 8-bit RGB bytes: each channel clamped to [0, 1], scaled by 255 and rounded.
+    /// 8-bit RGB bytes: each channel clamped to [0, 1], scaled by 255 and rounded
+    /// ([`Encoding::Linear`]).
     pub fn to_rgb8(&self) -> Vec<u8> {
+        self.to_rgb8_as(Encoding::Linear)
+    }
+
+    /// 8-bit RGB bytes in `encoding`.
+    pub fn to_rgb8_as(&self, encoding: Encoding) -> Vec<u8> {
+        let byte = encoding.quantizer();
         let mut bytes = Vec::with_capacity(3 * self.pixels.len());
         for p in &self.pixels {
-            bytes.extend_from_slice(&[quantize(p.x), quantize(p.y), quantize(p.z)]);
+            bytes.extend_from_slice(&[byte(p.x), byte(p.y), byte(p.z)]);
         }
         bytes
+    }
+}
+
+/// How an 8-bit file (PNG, PPM) holds the linear values; float files (PFM, EXR)
+/// hold them as they are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// Clamped to [0, 1] and scaled ([`quantize`]): NFF and P3F colours are display
+    /// values, as in the SPD's and the course's own pictures. The default.
+    #[default]
+    Linear,
+    /// Clamped, then through the sRGB transfer curve ([`quantize_srgb`]), as POV-Ray
+    /// and pbrt write their pictures.
+    Srgb,
+}
+
+impl Encoding {
+    /// The function from a linear channel value to its byte.
+    pub fn quantizer(self) -> fn(f32) -> u8 {
+        match self {
+            Encoding::Linear => quantize,
+            Encoding::Srgb => quantize_srgb,
+        }
     }
 }
 
@@ -50,6 +80,22 @@ pub fn quantize(v: f32) -> u8 {
     let x = v.clamp(0.0, 1.0) * 255.0;
     let whole = x as u8;
     whole + u8::from(x - f32::from(whole) >= 0.5)
+}
+
+/// Maps a linear channel value to its sRGB-encoded byte (NaN maps to 0): clamped to
+/// [0, 1], encoded by the sRGB curve of IEC 61966-2-1 — 12.92·v up to 0.0031308,
+/// 1.055·v^(1/2.4) − 0.055 above — then scaled and rounded as [`quantize`] does.
+pub fn quantize_srgb(v: f32) -> u8 {
+    if v.is_nan() {
+        return 0;
+    }
+    let v = v.clamp(0.0, 1.0);
+    let encoded = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    quantize(encoded)
 }
 
 #[cfg(test)]
@@ -71,6 +117,30 @@ mod tests {
             let want = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
             assert_eq!(quantize(v), want, "{v:e}");
         }
+    }
+
+    #[test]
+    fn srgb_bytes_are_the_curves() {
+        // By hand: 1.055 · 0.5^(1/2.4) − 0.055 = 0.73535, · 255 = 187.5 -> 188 (the
+        // sRGB code of linear one half); 0.1 -> 89.04; 0.18 -> 117.6; the linear
+        // part, 12.92 · 0.002 · 255 = 6.59 -> 7.
+        for (v, want) in [
+            (0.5, 188),
+            (0.1, 89),
+            (0.15, 108),
+            (0.3, 149),
+            (0.18, 118),
+            (0.002, 7),
+        ] {
+            assert_eq!(quantize_srgb(v), want, "{v}");
+        }
+        assert_eq!(quantize_srgb(-1.0), 0);
+        assert_eq!(quantize_srgb(1.0), 255);
+        assert_eq!(quantize_srgb(7.0), 255);
+        assert_eq!(quantize_srgb(f32::NAN), 0);
+        let image = Image::from_pixels(1, 1, vec![Vec3::new(0.1, 0.15, 0.3)]);
+        assert_eq!(image.to_rgb8_as(Encoding::Srgb), [89, 108, 149]);
+        assert_eq!(image.to_rgb8(), [26, 38, 77]);
     }
 
     #[test]

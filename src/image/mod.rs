@@ -1,12 +1,14 @@
 //! Images: the linear floating-point framebuffer, its encoders and decoders, the
 //! tiles of a split render (and the bands to split it in), and the skybox cube map.
 //!
-//! Colour mapping (one documented choice): each linear channel is clamped to [0, 1],
+//! Colour mapping (one documented default): each linear channel is clamped to [0, 1],
 //! multiplied by 255 and rounded to the nearest integer. No gamma curve is applied:
-//! NFF colours are display values, as in the SPD's own pictures. PFM output skips the
-//! mapping and keeps the linear values as they are.
+//! NFF colours are display values, as in the SPD's own pictures.
+//! [`Encoding::Srgb`] applies the sRGB curve instead, on request. PFM and OpenEXR
+//! output skip the mapping and keep the linear values as they are.
 
 mod bands;
+mod exr;
 mod format;
 mod framebuffer;
 mod pfm;
@@ -16,10 +18,11 @@ pub mod region;
 pub mod skybox;
 pub mod tiles;
 
+pub use self::exr::{decode_exr, encode_exr};
 pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};
 pub use bands::bands;
 pub use format::{png_error, ImageFormat, SOFTWARE_TEXT};
-pub use framebuffer::{quantize, Image};
+pub use framebuffer::{quantize, quantize_srgb, Encoding, Image};
 pub use pfm::{decode_pfm, encode_pfm};
-pub use ppm::{decode_ppm, encode_ppm};
+pub use ppm::{decode_ppm, encode_ppm, encode_ppm_rgb8};
 pub use region::Region;

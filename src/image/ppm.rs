@@ -6,8 +6,13 @@ use super::Image;
 
 /// Writes `image` as binary PPM (`P6`, maxval 255) with the crate's colour mapping.
 pub fn encode_ppm(image: &Image, w: &mut (impl Write + ?Sized)) -> io::Result<()> {
-    write!(w, "P6\n{} {}\n255\n", image.width, image.height)?;
-    w.write_all(&image.to_rgb8())
+    encode_ppm_rgb8(image.width, image.height, &image.to_rgb8(), w)
+}
+
+/// Writes 8-bit RGB bytes (`width * height * 3`, top row first) as binary PPM.
+pub fn encode_ppm_rgb8(width: u32, height: u32, rgb: &[u8], w: &mut (impl Write + ?Sized)) -> io::Result<()> {
+    write!(w, "P6\n{width} {height}\n255\n")?;
+    w.write_all(rgb)
 }
 
 /// Reads a binary PPM with maxval 255: `(width, height, RGB bytes)`. Comments (`#`

@@ -5,13 +5,16 @@
 //! [`REGION_KEY`] = `X0,Y0,X1,Y1,W,H` (the region, half-open, and the full image
 //! size), [`FINGERPRINT_KEY`] = `scene=HEX options=HEX` (see [`crate::fingerprint`]:
 //! the scene it was rendered from and every option that changes pixels) and
-//! [`OPTIONS_KEY`] (those options in words, for people and error messages).
-//! [`merge_tiles`] checks that the tiles agree on the full size and fingerprint, lie
-//! inside the image, do not overlap and cover it, then copies them into place.
+//! [`OPTIONS_KEY`] (those options in words, for people and error messages); a tile
+//! written sRGB-encoded also has [`ENCODING_KEY`] = `srgb`.
+//! [`merge_tiles`] checks that the tiles agree on the full size, fingerprint and
+//! encoding, lie inside the image, do not overlap and cover it, then copies them
+//! into place.
 
 use std::fmt;
 
 use super::region::{parse_u32s, Region};
+use super::Encoding;
 
 /// PNG text keyword of a tile's placement: `X0,Y0,X1,Y1,W,H`.
 pub const REGION_KEY: &str = "nffrt:region";
@@ -19,6 +22,26 @@ pub const REGION_KEY: &str = "nffrt:region";
 pub const OPTIONS_KEY: &str = "nffrt:options";
 /// PNG text keyword of a tile's [`TileFingerprint`].
 pub const FINGERPRINT_KEY: &str = "nffrt:fingerprint";
+/// PNG text keyword of a tile's [`Encoding`] when it is not the default: `srgb`.
+pub const ENCODING_KEY: &str = "nffrt:encoding";
+
+/// The [`ENCODING_KEY`] chunk of a tile in `encoding`, if it needs one (a tile
+/// without it holds linear values, as every tile did before sRGB output).
+pub fn encoding_text(encoding: Encoding) -> Option<(&'static str, String)> {
+    match encoding {
+        Encoding::Linear => None,
+        Encoding::Srgb => Some((ENCODING_KEY, "srgb".into())),
+    }
+}
+
+/// The encoding of a tile whose [`ENCODING_KEY`] chunk holds `text` (`None`: none).
+pub fn parse_encoding_text(text: Option<&str>) -> Result<Encoding, String> {
+    match text {
+        None => Ok(Encoding::Linear),
+        Some("srgb") => Ok(Encoding::Srgb),
+        Some(other) => Err(format!("unknown {ENCODING_KEY} '{other}' (nffrt writes 'srgb')")),
+    }
+}
 
 /// What a tile was made from: tiles merge only when these are equal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,6 +91,8 @@ pub struct Tile {
     pub fingerprint: TileFingerprint,
     /// The render settings in words, as recorded in the tile (for messages).
     pub settings: String,
+    /// How its bytes hold the linear values.
+    pub encoding: Encoding,
     /// `region.width() * region.height() * 3` bytes, top row first.
     pub rgb: Vec<u8>,
 }
@@ -122,14 +147,100 @@ fn check_fingerprints(tiles: &[Tile]) -> Result<(), String> {
             )
         });
     }
-    if let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.fingerprint.options) {
-        let (a, b) = (&tiles[odd], &tiles[reference]);
-        return Err(format!(
-            "{} was rendered with different settings ({}) from {} ({})",
-            a.name, a.settings, b.name, b.settings
-        ));
+    if let Some((odd, reference, alone)) = odd_one_out(tiles, |t| t.fingerprint.options) {
+        // The odd tile first when it is alone, else the two in the order given.
+        let (a, b) = match alone {
+            true => (&tiles[odd], &tiles[reference]),
+            false => (&tiles[reference], &tiles[odd]),
+        };
+        let differences = settings_difference(&a.settings, &b.settings)
+            .unwrap_or_else(|| format!("{} against {}", a.settings, b.settings));
+        return Err(if alone {
+            format!(
+                "{} was rendered with different settings than the other tiles, e.g. {}: {differences}",
+                a.name, b.name
+            )
+        } else {
+            format!(
+                "{} and {} were rendered with different settings: {differences}",
+                a.name, b.name
+            )
+        });
     }
     Ok(())
+}
+
+/// Refuses sRGB-encoded tiles beside linear ones: their bytes mean other colours.
+fn check_encodings(tiles: &[Tile]) -> Result<(), String> {
+    let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.encoding) else {
+        return Ok(());
+    };
+    let (a, b) = (&tiles[odd], &tiles[reference]);
+    let (srgb, linear) = if a.encoding == Encoding::Srgb {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    Err(format!(
+        "{} was written with --srgb and {} without: their bytes encode colours differently; \
+         render them alike",
+        srgb.name, linear.name
+    ))
+}
+
+/// The settings in which two tiles' [`OPTIONS_KEY`] texts differ, in words: `spp 4
+/// against 16, max_depth 5 against 2` (the first tile's value first); `None` when
+/// either text is not the JSON object nffrt writes or no setting differs.
+fn settings_difference(a: &str, b: &str) -> Option<String> {
+    let (a, b) = (settings_words(a)?, settings_words(b)?);
+    let value = |words: &[(String, String)], key: &str| {
+        let found = words.iter().find(|(k, _)| k == key);
+        found.map_or_else(|| "none".to_string(), |(_, v)| v.clone())
+    };
+    let mut keys: Vec<&String> = a.iter().chain(&b).map(|(k, _)| k).collect();
+    keys.sort();
+    keys.dedup();
+    let differences: Vec<String> = keys
+        .into_iter()
+        .map(|key| (key, value(&a, key), value(&b, key)))
+        .filter(|(_, x, y)| x != y)
+        .map(|(key, x, y)| format!("{key} {x} against {y}"))
+        .collect();
+    (!differences.is_empty()).then(|| differences.join(", "))
+}
+
+/// A tile's settings (the JSON of [`crate::fingerprint::options_text`]) as `(name,
+/// value)` words: an enum variant with fields counts as its name plus each field
+/// (`"sampling": {"Stratified": {"spp": 4}}` is `sampling Stratified` and `spp 4`),
+/// `null` (the scene's value) is `none`.
+fn settings_words(text: &str) -> Option<Vec<(String, String)>> {
+    fn flatten(key: String, value: serde_json::Value, words: &mut Vec<(String, String)>) {
+        use serde_json::Value;
+        match value {
+            Value::Object(fields) if fields.len() == 1 && fields.values().all(Value::is_object) => {
+                for (variant, fields) in fields {
+                    words.push((key.clone(), variant));
+                    flatten(key.clone(), fields, words);
+                }
+            }
+            Value::Object(fields) => {
+                for (k, v) in fields {
+                    flatten(k, v, words);
+                }
+            }
+            Value::String(s) => words.push((key, s)),
+            Value::Null => words.push((key, "none".into())),
+            v => words.push((key, v.to_string())),
+        }
+    }
+    let serde_json::Value::Object(fields) = serde_json::from_str(text).ok()? else {
+        return None;
+    };
+    let mut words = Vec::new();
+    for (key, value) in fields {
+        flatten(key, value, &mut words);
+    }
+    Some(words)
 }
 
 /// Checks the tiles and assembles them: `(width, height, RGB bytes)` of the full image.
@@ -145,6 +256,7 @@ pub fn merge_tiles(tiles: &[Tile]) -> Result<(u32, u32, Vec<u8>), String> {
         }
     }
     check_fingerprints(tiles)?;
+    check_encodings(tiles)?;
     for t in tiles {
         let r = &t.region;
         if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
@@ -228,6 +340,7 @@ mod tests {
             full_height: 3,
             fingerprint: TileFingerprint { scene: 1, options: 2 },
             settings: "spp=1".into(),
+            encoding: Encoding::Linear,
             rgb,
         }
     }
@@ -264,7 +377,7 @@ mod tests {
         other.settings = "spp=4".into();
         let e = merge_tiles(&[tile("a", 0, 0, 2, 3), other]).unwrap_err();
         assert!(
-            e.contains("b was rendered with different settings (spp=4) from a (spp=1)"),
+            e.contains("a and b were rendered with different settings: spp=1 against spp=4"),
             "{e}"
         );
         assert!(merge_tiles(&[]).is_err());
@@ -291,6 +404,63 @@ mod tests {
         // Two tiles that disagree: neither can be called the odd one, both are named.
         let e = merge_tiles(&[top, odd]).unwrap_err();
         assert!(e.contains("top and odd come from different scenes"), "{e}");
+    }
+
+    #[test]
+    fn srgb_and_linear_tiles_do_not_mix() {
+        let mut srgb = tile("b", 2, 0, 4, 3);
+        srgb.encoding = Encoding::Srgb;
+        for tiles in [
+            [tile("a", 0, 0, 2, 3), srgb.clone()],
+            [srgb.clone(), tile("a", 0, 0, 2, 3)],
+        ] {
+            let e = merge_tiles(&tiles).unwrap_err();
+            assert!(e.starts_with("b was written with --srgb and a without"), "{e}");
+        }
+        let mut both = tile("a", 0, 0, 2, 3);
+        both.encoding = Encoding::Srgb;
+        assert!(merge_tiles(&[both, srgb]).is_ok());
+        assert_eq!(parse_encoding_text(None), Ok(Encoding::Linear));
+        let (key, text) = encoding_text(Encoding::Srgb).unwrap();
+        assert_eq!(key, ENCODING_KEY);
+        assert_eq!(parse_encoding_text(Some(&text)), Ok(Encoding::Srgb));
+        assert!(parse_encoding_text(Some("gamma")).is_err());
+    }
+
+    #[test]
+    fn differing_settings_are_named_in_words() {
+        let options = |sampling: &str, depth: u32| {
+            format!(
+                r#"{{"width":4,"height":3,"max_depth":{depth},"sampling":{sampling},"aperture":null,"focal":1.5}}"#
+            )
+        };
+        let spp = |n: u32| options(&format!(r#"{{"Stratified":{{"spp":{n}}}}}"#), 5);
+        assert_eq!(
+            settings_difference(&spp(4), &spp(16)).as_deref(),
+            Some("spp 4 against 16")
+        );
+        assert_eq!(
+            settings_difference(&options(r#""PixelCenters""#, 2), &spp(16)).as_deref(),
+            Some("max_depth 2 against 5, sampling PixelCenters against Stratified, spp none against 16")
+        );
+        assert_eq!(settings_difference(&spp(4), &spp(4)), None);
+        assert_eq!(settings_difference("not recorded", &spp(4)), None);
+        // Three tiles, one odd: it is named, with one of the others.
+        let mut tiles = [
+            tile("top", 0, 0, 4, 1),
+            tile("mid", 0, 1, 4, 2),
+            tile("bot", 0, 2, 4, 3),
+        ];
+        for t in &mut tiles {
+            t.settings = spp(16);
+        }
+        tiles[2].settings = spp(4);
+        tiles[2].fingerprint.options = 3;
+        let e = merge_tiles(&tiles).unwrap_err();
+        assert_eq!(
+            e,
+            "bot was rendered with different settings than the other tiles, e.g. top: spp 4 against 16"
+        );
     }
 
     #[test]

@@ -42,6 +42,15 @@ impl Aabb {
         self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
     }
 
+    /// The box of a disc of radius `r` centred at `centre` in the plane perpendicular
+    /// to the unit vector `axis`: along coordinate i the disc reaches
+    /// r·√(1 − axis_i²) (a zero `axis` gives the box of the sphere of radius `r`).
+    pub fn of_disc(centre: Vec3, axis: Vec3, r: f32) -> Aabb {
+        let reach = |a: f32| r * (1.0 - a * a).max(0.0).sqrt();
+        let reach = Vec3::new(reach(axis.x), reach(axis.y), reach(axis.z));
+        Aabb::new(centre - reach, centre + reach)
+    }
+
     /// The smallest box holding both boxes.
     #[inline]
     pub fn union(self, o: Aabb) -> Aabb {

@@ -2,6 +2,8 @@
 
 use thiserror::Error;
 
+use super::Format;
+
 /// A fatal problem in an NFF file, with its 1-based line and column.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[error("line {line}, column {column}: {kind}")]
@@ -25,9 +27,16 @@ pub enum ParseErrorKind {
         /// The token found, quoted, or "end of file".
         found: String,
     },
-    /// A keyword that NFF (and our extensions) does not define.
-    #[error("unknown keyword {0}")]
-    UnknownKeyword(String),
+    /// A word where a keyword of the file's language must stand, and none of its
+    /// keywords.
+    #[error("unknown keyword {word}{}", other_language_hint(word, *other))]
+    UnknownKeyword {
+        /// The word, quoted.
+        word: String,
+        /// The other language, when the word is one of its keywords (a P3F file
+        /// read as NFF, say).
+        other: Option<Format>,
+    },
     /// Well-formed but unusable input (a degenerate camera, a resolution past the cap, ...).
     #[error("{0}")]
     Invalid(String),
@@ -41,4 +50,15 @@ impl ParseError {
     pub fn new(line: u32, column: u32, kind: ParseErrorKind) -> Self {
         ParseError { line, column, kind }
     }
+}
+
+/// `; "accel" is a P3F keyword: is this a P3F file? (--format p3f)` when the word is a
+/// keyword of `other`, else nothing.
+fn other_language_hint(word: &str, other: Option<Format>) -> String {
+    let (article, name, flag) = match other {
+        None => return String::new(),
+        Some(Format::Nff) => ("an", "NFF", "nff"),
+        Some(Format::P3f) => ("a", "P3F", "p3f"),
+    };
+    format!("; {word} is {article} {name} keyword: is this {article} {name} file? (--format {flag})")
 }

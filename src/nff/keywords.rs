@@ -82,6 +82,16 @@ pub(super) fn find(text: &[u8], format: Format) -> Option<&'static Keyword> {
         .find(|k| k.name.as_bytes() == text && k.in_format(format))
 }
 
+/// The other language than `format`, if `text` is one of its keywords (for the hint
+/// of an unknown keyword: a P3F file read as NFF, or the reverse).
+pub(super) fn other_format_with(text: &[u8], format: Format) -> Option<Format> {
+    let other = match format {
+        Format::Nff => Format::P3f,
+        Format::P3f => Format::Nff,
+    };
+    find(text, other).map(|_| other)
+}
+
 /// The keywords of `format`, as listed in error messages: `v, b, l, ...`.
 pub(super) fn list(format: Format) -> String {
     let names: Vec<&str> = KEYWORDS

@@ -188,7 +188,10 @@ impl<'a> Parser<'a> {
                         found: format!("the number {}", tok.quoted()),
                     }
                 } else {
-                    ParseErrorKind::UnknownKeyword(tok.quoted())
+                    ParseErrorKind::UnknownKeyword {
+                        word: tok.quoted(),
+                        other: keywords::other_format_with(tok.text, self.format),
+                    }
                 };
                 return Err(err(loc(&tok), kind));
             };
@@ -413,6 +416,29 @@ mod tests {
         let e = parse_err(&format!("{VIEW}\n  zz 1 2 3"));
         assert_eq!((e.line, e.column), (3, 3));
         assert!(e.to_string().contains("unknown keyword \"zz\""), "{e}");
+    }
+
+    #[test]
+    fn a_keyword_of_the_other_language_gets_a_hint() {
+        let p3f = "camera\n  eye 0 0 5\n";
+        let e = parse_format(
+            format!("accel bvh\n{p3f}").as_bytes(),
+            Format::Nff,
+            &Limits::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.kind.to_string(),
+            r#"unknown keyword "accel"; "accel" is a P3F keyword: is this a P3F file? (--format p3f)"#
+        );
+        let e = parse_format(b"aabb 0 1 0 1 0 1\n", Format::P3f, &Limits::default()).unwrap_err();
+        assert_eq!(
+            e.kind.to_string(),
+            r#"unknown keyword "aabb"; "aabb" is an NFF keyword: is this an NFF file? (--format nff)"#
+        );
+        // A word of neither language gets no hint.
+        let e = parse_err(&format!("{VIEW}\nzz 1 2 3"));
+        assert_eq!(e.kind.to_string(), r#"unknown keyword "zz""#);
     }
 
     #[test]

@@ -10,11 +10,25 @@ use std::process::{Command, Output, Stdio};
 
 /// Runs the `nffrt` binary built for these tests, feeding `stdin` to it.
 pub fn nffrt(args: &[&str], stdin: &[u8]) -> Output {
+    run_nffrt(None, args, stdin)
+}
+
+/// Runs the `nffrt` binary in `dir` (for the default output names, which are
+/// relative), with nothing on standard input.
+pub fn nffrt_in(dir: &Path, args: &[&str]) -> Output {
+    run_nffrt(Some(dir), args, b"")
+}
+
+fn run_nffrt(dir: Option<&Path>, args: &[&str], stdin: &[u8]) -> Output {
     // Absent without the `cli` feature; the tests that run the binary require it.
     let Some(binary) = option_env!("CARGO_BIN_EXE_nffrt") else {
         panic!("the nffrt binary is built only with the `cli` feature");
     };
-    let mut child = Command::new(binary)
+    let mut command = Command::new(binary);
+    if let Some(dir) = dir {
+        command.current_dir(dir);
+    }
+    let mut child = command
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -106,7 +106,7 @@ pub enum ServerMessage {
     Scene {
         /// The file as named on the command line.
         name: String,
-        /// `nff`, `p3f2019` or `p3f2025`.
+        /// `nff`, `p3f-2019` or `p3f-2025` ([`nffrt::scene::Dialect::name`]).
         dialect: &'static str,
         /// Reload count: 0 for the file as first loaded.
         version: u64,

@@ -21,7 +21,7 @@ use super::scene::{Loaded, SceneEvent};
 use super::server::App;
 use super::worker::{Frame, Job, Worker};
 use nffrt::geometry::SourceKind;
-use nffrt::image::encode_png;
+use nffrt::image::{encode_png, SOFTWARE_TEXT};
 use nffrt::render::debug::{kind_name, trace_pixel};
 use nffrt::scene::{AngleSpan, Dialect};
 
@@ -218,11 +218,7 @@ impl Session {
             .unwrap_or(nffrt::limits::DEFAULT_EFFECT_SPP);
         ServerMessage::Scene {
             name: self.app.name.clone(),
-            dialect: match info.dialect {
-                Dialect::Nff => "nff",
-                Dialect::P3f2019 => "p3f2019",
-                Dialect::P3f2025 => "p3f2025",
-            },
+            dialect: info.dialect.name(),
             version: l.version,
             counts: l.counts.clone(),
             warnings: l.warnings.clone(),
@@ -296,7 +292,13 @@ impl Session {
             return error("no full-resolution picture yet");
         };
         let mut png = Vec::new();
-        if encode_png(&image, &[("Software", "nffrt".to_string())], &mut png).is_err() {
+        if encode_png(
+            &image,
+            &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
+            &mut png,
+        )
+        .is_err()
+        {
             return error("the picture could not be encoded");
         }
         let header = serde_json::json!({ "kind": "png", "gen": gen, "complete": complete });
