@@ -41,6 +41,11 @@ pub mod prepared;
 pub mod render;
 pub mod scene;
 
+// The tests' one way of saying that a check is skipped (tests/common/skip.rs).
+#[cfg(test)]
+#[path = "../tests/common/skip.rs"]
+mod test_skip;
+
 pub use prepared::PreparedScene;
 pub use scene::Scene;
 

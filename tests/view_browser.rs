@@ -9,6 +9,8 @@
 //! Skipped, saying so, when `chromedriver` is not installed; `.ci/run` installs it
 //! and sets `NFFRT_BROWSER_TEST=require`, which turns the skip into a failure.
 
+#[path = "common/skip.rs"]
+mod skip;
 mod view_client;
 
 use std::io::{Read, Write};
@@ -247,7 +249,7 @@ fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
             std::env::var("NFFRT_BROWSER_TEST").as_deref() != Ok("require"),
             "NFFRT_BROWSER_TEST=require but chromedriver is not on PATH"
         );
-        eprintln!("note: chromedriver is not installed; the browser test is skipped (apt-get install chromium chromium-driver)");
+        skip::skip("chromedriver is not installed (apt-get install chromium chromium-driver)");
         return;
     };
     let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))

@@ -227,12 +227,9 @@ fn progressive_frames_end_in_exactly_the_rendered_picture() {
     let dir = scratch("converge");
     converges_to_the_render(&showcase(), 160, 120, 4, &dir.join("a.png"));
     converges_to_the_render(&showcase(), 33, 17, 1, &dir.join("b.png"));
-    let dof = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/p3f/2025/dof.p3f");
-    if dof.exists() {
-        // A lens and stratified samples: P3F's depth of field.
+    // A lens and stratified samples: P3F's depth of field.
+    if let Some(dof) = common::skip::shared("scenes/p3f/2025/dof.p3f") {
         converges_to_the_render(&dof, 96, 72, 5, &dir.join("c.png"));
-    } else {
-        eprintln!("note: ../shared is absent; the P3F convergence check is skipped");
     }
 }
 
