@@ -140,6 +140,29 @@ fn requests_without_the_token_or_from_elsewhere_are_refused() {
     assert_eq!(scene_of(&mut ok)["name"], showcase().display().to_string());
 }
 
+/// `--host 0.0.0.0` listens everywhere; no browser opens `http://0.0.0.0:PORT`, so
+/// the URLs printed are this machine's loopback one and its network address's
+/// (when it has a route), each of which serves the page.
+#[test]
+fn an_unspecified_host_prints_urls_a_browser_can_open() {
+    let server = Server::start(&showcase(), &["--host", "0.0.0.0"]);
+    assert!(server.url.starts_with("http://127.0.0.1:"), "{}", server.url);
+    let t = &server.token;
+    assert_eq!(server.get(&format!("/?token={t}"), &[]).0, 200);
+    for line in server.printed_after_url() {
+        let url = line
+            .strip_prefix("from other machines: http://")
+            .unwrap_or_else(|| panic!("unexpected line {line:?}"));
+        let (address, query) = url.split_once('/').unwrap();
+        assert!(!address.starts_with("0.0.0.0"), "{line}");
+        assert_eq!(
+            server.get_via(address, &format!("/{query}"), &[]).0,
+            200,
+            "{line}"
+        );
+    }
+}
+
 #[test]
 fn malformed_and_oversize_messages_get_an_error_and_the_server_lives_on() {
     let mut server = Server::start(&showcase(), &[]);
@@ -380,16 +403,37 @@ fn ctrl_c_stops_the_server_with_pages_open() {
     let scene = scene_of(&mut c);
     c.send(&render_msg(&scene["camera"], 320, 240, 64));
     c.until_json("view", |_| {});
-    assert_eq!(server.interrupt(), Some(130));
+    // The documented way to stop it: a clean end, not an error.
+    assert_eq!(server.interrupt(), (Some(0), vec!["stopped".to_string()]));
     // Frames sent before the end may still be in the socket; then it is closed.
     while !matches!(c.recv(), Msg::Closed) {}
 }
 
+/// `view -` reads the scene once from standard input, P3F with `--format p3f` as
+/// `view --help` says, and a bad one is reported at its line before serving.
 #[test]
-fn view_refuses_standard_input_and_reports_a_bad_file_before_serving() {
-    let stdin = common::nffrt(&["view", "-", "--no-open"], b"s 0 0 0 1\n");
-    assert_eq!(stdin.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&stdin.stderr).contains("not standard input"));
+fn view_serves_a_scene_from_standard_input() {
+    let p3f = "bclr 0.1 0.1 0.1\nv from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 16 12\n\
+               l 0 0 10\nf 1 0 0 1 1 1 1 0.5 10 0 1\ns 0 0 0 1\ns 2 0 0 1\n";
+    let server = Server::start_with_input(Path::new("-"), &["--format", "p3f"], Some(p3f.as_bytes()));
+    let mut c = server.connect();
+    let scene = scene_of(&mut c);
+    assert_eq!(
+        (scene["name"].as_str(), scene["dialect"].as_str()),
+        (Some("<stdin>"), Some("p3f2019"))
+    );
+    assert_eq!(scene["counts"]["primitives"], 2);
+    c.send(&render_msg(&scene["camera"], 16, 12, 1));
+    let gen = c.until_json("view", |_| {})["gen"].as_u64().unwrap();
+    c.until_complete(gen, |_| {});
+    let bad = common::nffrt(&["view", "-", "--no-open"], b"s 0 0 0 1\nq\n");
+    assert_eq!(bad.status.code(), Some(3));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("<stdin>:2:1: unknown keyword"));
+    assert!(bad.stdout.is_empty(), "no URL for a scene that does not load");
+}
+
+#[test]
+fn view_reports_a_bad_file_before_serving() {
     let missing = common::nffrt(&["view", "no/such/scene.nff", "--no-open"], b"");
     assert_eq!(missing.status.code(), Some(4));
     let dir = scratch("bad");
