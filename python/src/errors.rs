@@ -35,18 +35,17 @@ pub fn scene_error(py: Python<'_>, path: Option<&str>, line: u32, column: u32, m
     }
 }
 
-/// The exception for a scene that did not load: `path` is None for text.
-pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError) -> PyErr {
+/// The exception for a scene that did not load: `path` is None for text; `hint`,
+/// if any, follows a parse error's message in brackets.
+pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError, hint: Option<&str>) -> PyErr {
     match e {
         LoadError::Parse { error, .. } => {
             let path = path.map(|p| p.display().to_string());
-            scene_error(
-                py,
-                path.as_deref(),
-                error.line,
-                error.column,
-                error.kind.to_string(),
-            )
+            let message = match hint {
+                Some(hint) => format!("{} ({hint})", error.kind),
+                None => error.kind.to_string(),
+            };
+            scene_error(py, path.as_deref(), error.line, error.column, message)
         }
         // A file the scene names (a skybox image) is missing, unreadable or corrupt:
         // an OSError naming it, as the command line treats it.
