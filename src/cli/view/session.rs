@@ -15,7 +15,7 @@ use tokio::sync::{broadcast, watch};
 
 use super::camera::{camera_block, render_options, view_of};
 use super::protocol::{
-    encode_binary, parse_client_message, CameraMsg, ClientMessage, OptionsMsg, ServerMessage,
+    encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
 };
 use super::scene::{Loaded, SceneEvent};
 use super::server::App;
@@ -229,6 +229,7 @@ impl Session {
             has_lens: view.aperture > 0.0,
             has_area_lights: l.scene.lights.iter().any(|l| l.area.is_some()),
             load_s: l.load_s,
+            limits: LimitsMsg::NFFRT,
         }
     }
 
