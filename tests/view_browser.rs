@@ -242,26 +242,32 @@ fn base64_decode(text: &str) -> Vec<u8> {
         .collect()
 }
 
-#[test]
-fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
+/// chromedriver, a folder for screenshots and a fresh work folder (with an empty
+/// browser profile) named after `name`; or `None` after saying the test is skipped
+/// (a failure under NFFRT_BROWSER_TEST=require).
+fn setup(name: &str) -> Option<(PathBuf, PathBuf, PathBuf)> {
     let Some(driver) = find_on_path("chromedriver") else {
         assert!(
             std::env::var("NFFRT_BROWSER_TEST").as_deref() != Ok("require"),
             "NFFRT_BROWSER_TEST=require but chromedriver is not on PATH"
         );
         skip::skip("chromedriver is not installed (apt-get install chromium chromium-driver)");
-        return;
+        return None;
     };
-    let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf();
-    let shots = target.join("view-browser");
-    let work =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("view-browser-{}", std::process::id()));
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let shots = tmp.parent().unwrap().join("view-browser");
+    let work = tmp.join(format!("view-browser-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&work);
     std::fs::create_dir_all(&shots).unwrap();
     std::fs::create_dir_all(work.join("profile")).unwrap();
+    Some((driver, shots, work))
+}
+
+#[test]
+fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
+    let Some((driver, shots, work)) = setup("reload") else {
+        return;
+    };
     let file = work.join("spheres.nff");
     std::fs::write(&file, SCENE).unwrap();
     let server = Server::start(&file, &["--spp", "4"]);
@@ -394,23 +400,9 @@ impl Browser {
 /// not as lines from the lens across the picture; a refused setting says why.
 #[test]
 fn the_picture_fits_clicks_find_their_pixel_lens_rays_stay_put_and_bad_settings_say_why() {
-    let Some(driver) = find_on_path("chromedriver") else {
-        assert!(
-            std::env::var("NFFRT_BROWSER_TEST").as_deref() != Ok("require"),
-            "NFFRT_BROWSER_TEST=require but chromedriver is not on PATH"
-        );
-        skip::skip("chromedriver is not installed (apt-get install chromium chromium-driver)");
+    let Some((driver, shots, work)) = setup("fit") else {
         return;
     };
-    let shots = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .unwrap()
-        .join("view-browser");
-    let work =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("view-browser-fit-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&work);
-    std::fs::create_dir_all(&shots).unwrap();
-    std::fs::create_dir_all(work.join("profile")).unwrap();
     let file = work.join("lens.p3f");
     std::fs::write(&file, LENS_SCENE).unwrap();
     let server = Server::start(&file, &["--spp", "4"]);

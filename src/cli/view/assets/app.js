@@ -232,6 +232,7 @@ for (const [id, key] of Object.entries(fields)) {
   });
 }
 $('lens').addEventListener('change', () => { options = { ...options, lens: $('lens').checked }; requestRender(); });
+$('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
 $('actual').addEventListener('change', layout);
 window.addEventListener('resize', layout);
 
@@ -255,7 +256,6 @@ function layout() {
   body.dataset.scale = scale;
   body.dataset.actual = actual;
 }
-$('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
 
 function reset() {
   if (!scene) return;
