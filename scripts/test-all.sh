@@ -7,11 +7,32 @@
 #      maturin) into a virtual environment with numpy, dask[distributed] and pytest:
 #      $NFFRT_VENV, by default target/py-venv, made on first use (delete it, or
 #      point NFFRT_VENV at a new folder, for a fresh one);
-#   3. pytest python/tests against that module and the binary of step 1.
+#   3. pytest python/tests against that module and the binary of step 1;
+#   4. a summary of the checks skipped, grouped by reason: every test that skips
+#      one (most for want of ../shared) appends `SKIPPED: <test>: <reason>` to
+#      target/skipped-tests.log (tests/common/skip.rs, python/tests/conftest.py).
 #
 # Extra arguments go to pytest (e.g. `scripts/test-all.sh -k dask`).
+# NFFRT_SHARED=/nowhere runs the tests as a fresh clone without ../shared would;
+# NFFRT_REQUIRE_SHARED=1 (set by .ci/run) makes every ../shared skip a failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+mkdir -p target
+export NFFRT_SKIP_LOG="$PWD/target/skipped-tests.log"
+: >"$NFFRT_SKIP_LOG"
+
+# The skipped checks by reason, most frequent first; printed however the run ends.
+summary() {
+    local n
+    n=$(wc -l <"$NFFRT_SKIP_LOG")
+    echo "== skipped: $n"
+    if [ "$n" -gt 0 ]; then
+        sed -E 's/^SKIPPED: [^ ]+: //' "$NFFRT_SKIP_LOG" | sort | uniq -c | sort -rn
+        echo "   (each test: $NFFRT_SKIP_LOG)"
+    fi
+}
+trap summary EXIT
 
 echo "== Rust: cargo test --profile test-release"
 cargo test --profile test-release
@@ -30,5 +51,6 @@ fi
 
 # The tests compare the module (release profile, fat LTO) with this binary
 # (test-release): floating point is the same under both, and the tests check it.
+# -rs: each skipped test with its reason.
 echo "== Python: pytest python/tests"
-NFFRT_BIN="$PWD/target/test-release/nffrt" "$venv/bin/python" -m pytest -q python/tests "$@"
+NFFRT_BIN="$PWD/target/test-release/nffrt" "$venv/bin/python" -m pytest -q -rs python/tests "$@"

@@ -42,6 +42,11 @@ pub mod render;
 pub mod scene;
 pub mod words;
 
+// The tests' one way of saying that a check is skipped (tests/common/skip.rs).
+#[cfg(test)]
+#[path = "../tests/common/skip.rs"]
+mod test_skip;
+
 pub use prepare::{prepare, RenderScene};
 pub use scene::Scene;
 

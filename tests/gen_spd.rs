@@ -1,24 +1,19 @@
 //! `nffrt gen NAME` at the default size against the SPD 3.14 output in
 //! `../shared/scenes/spd/NAME.nff`: camera, background, lights, per-primitive
 //! materials and file lines exactly; every coordinate, radius and normal within
-//! 1e-4 (scaled by the number's magnitude when above 1). Each test is skipped, with
-//! a note, when `../shared` is absent.
+//! 1e-4 (scaled by the number's magnitude when above 1). Each test is skipped,
+//! saying so, when `../shared` is absent.
 
-use std::path::PathBuf;
+#[path = "common/skip.rs"]
+mod skip;
 
 use nffrt::gen::{generate, SpdScene};
 use nffrt::math::Vec3;
 use nffrt::Scene;
 
 fn reference(which: SpdScene) -> Option<Scene> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../shared/scenes/spd/{which}.nff"));
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        eprintln!(
-            "note: {} not found; skipping the comparison with the SPD",
-            path.display()
-        );
-        return None;
-    };
+    let path = skip::shared(&format!("scenes/spd/{which}.nff"))?;
+    let text = std::fs::read_to_string(&path).unwrap();
     let scene = nffrt::nff::parse(&text).expect("the SPD's scene parses");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     Some(scene)

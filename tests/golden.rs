@@ -112,18 +112,12 @@ struct Case {
     classifier: Classifier,
 }
 
-/// `../shared`, or `None` after saying the test is skipped.
+/// `../shared`, with its reference pictures and scenes, or `None` after saying the
+/// test is skipped.
 fn shared() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if dir.join("reference").is_dir() && dir.join("scenes").is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: {} (reference pictures and scenes) is absent",
-            dir.display()
-        );
-        None
-    }
+    common::skip::shared("reference")?;
+    common::skip::shared("scenes")?;
+    Some(common::skip::shared_root())
 }
 
 /// The first `b` (NFF) or `bclr` (P3F) line's colour; black if there is none.

@@ -9,13 +9,10 @@ use std::path::{Path, PathBuf};
 
 use common::{field, info_json, json_of, nffrt, scratch_dir, tokens_without_comments};
 
-/// The P3F scenes under `../shared/scenes/p3f/`, or `None` (after a note) without it.
+/// The P3F scenes under `../shared/scenes/p3f/`, or `None` (after saying the test is
+/// skipped) without it.
 fn p3f_scenes() -> Option<Vec<PathBuf>> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/p3f");
-    if !root.is_dir() {
-        eprintln!("skipped: {} is absent", root.display());
-        return None;
-    }
+    let root = common::skip::shared("scenes/p3f")?;
     let mut all = Vec::new();
     for year in ["2019", "2025"] {
         let dir = root.join(year);

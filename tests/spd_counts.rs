@@ -8,6 +8,9 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+#[path = "common/skip.rs"]
+mod skip;
+
 /// SPD README 3.14: eye hits, reflection, refraction, shadow rays.
 const SPD: [(&str, [f64; 4]); 7] = [
     ("balls", [263169.0, 175095.0, 0.0, 954368.0]),
@@ -42,18 +45,7 @@ const CAMERA_TABLE: [(&str, f64); 4] = [
 const SCENES_WITH_GLASS: [&str; 2] = ["gears", "mount"];
 
 fn shared_scene(name: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/scenes/spd")
-        .join(format!("{name}.nff"));
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "note: {} not found: skipping the SPD count check for {name}",
-            p.display()
-        );
-        None
-    }
+    skip::shared(&format!("scenes/spd/{name}.nff"))
 }
 
 struct Counts {

@@ -9,6 +9,8 @@
 //! Skipped, saying so, when `chromedriver` is not installed; `.ci/run` installs it
 //! and sets `NFFRT_BROWSER_TEST=require`, which turns the skip into a failure.
 
+#[path = "common/skip.rs"]
+mod skip;
 mod view_client;
 
 use std::io::{Read, Write};
@@ -240,26 +242,32 @@ fn base64_decode(text: &str) -> Vec<u8> {
         .collect()
 }
 
-#[test]
-fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
+/// chromedriver, a folder for screenshots and a fresh work folder (with an empty
+/// browser profile) named after `name`; or `None` after saying the test is skipped
+/// (a failure under NFFRT_BROWSER_TEST=require).
+fn setup(name: &str) -> Option<(PathBuf, PathBuf, PathBuf)> {
     let Some(driver) = find_on_path("chromedriver") else {
         assert!(
             std::env::var("NFFRT_BROWSER_TEST").as_deref() != Ok("require"),
             "NFFRT_BROWSER_TEST=require but chromedriver is not on PATH"
         );
-        eprintln!("note: chromedriver is not installed; the browser test is skipped (apt-get install chromium chromium-driver)");
-        return;
+        skip::skip("chromedriver is not installed (apt-get install chromium chromium-driver)");
+        return None;
     };
-    let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf();
-    let shots = target.join("view-browser");
-    let work =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("view-browser-{}", std::process::id()));
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let shots = tmp.parent().unwrap().join("view-browser");
+    let work = tmp.join(format!("view-browser-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&work);
     std::fs::create_dir_all(&shots).unwrap();
     std::fs::create_dir_all(work.join("profile")).unwrap();
+    Some((driver, shots, work))
+}
+
+#[test]
+fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
+    let Some((driver, shots, work)) = setup("reload") else {
+        return;
+    };
     let file = work.join("spheres.nff");
     std::fs::write(&file, SCENE).unwrap();
     let server = Server::start(&file, &["--spp", "4"]);
@@ -320,4 +328,188 @@ fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
     assert_eq!(browser.picture(), (edited, gen), "the last good picture stays");
     browser.screenshot(&shots.join("5-load-error.png"));
     eprintln!("screenshots in {}", shots.display());
+}
+
+/// A P3F scene with a lens focused far behind its one sphere (so its eye rays leave
+/// from all over the lens and hit a blurred spot), no reflection, and a light just
+/// in front of the sphere (so the shadow rays drawn stay short on the picture).
+const LENS_SCENE: &str = "bclr 0.1 0.1 0.2\nv\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\n\
+resolution 320 240\naperture 16\nfocal 2\nl 0.15 0.15 1.5 1 1 1\nf 0.9 0.3 0.2 1 1 1 1 0 30 0 1\ns 0 0 0 1\n";
+
+impl Browser {
+    /// Clicks picture pixel `(x, y)` wherever and however large the picture is drawn:
+    /// at the first whole viewport position inside that pixel's square on screen.
+    fn click_pixel(&self, x: u32, y: u32) {
+        let at = self.run(&format!(
+            "const c = document.getElementById('picture'), r = c.getBoundingClientRect();\n\
+             const s = r.width / c.width;\n\
+             return [Math.ceil(r.left + {x} * s), Math.ceil(r.top + {y} * s)];"
+        ));
+        let actions = vec![
+            json!({"type": "pointerMove", "duration": 0, "origin": "viewport", "x": at[0], "y": at[1]}),
+            json!({"type": "pointerDown", "button": 0}),
+            json!({"type": "pointerUp", "button": 0}),
+        ];
+        let body = json!({"actions": [{"type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"}, "actions": actions}]});
+        self.cmd("POST", "actions", body);
+    }
+
+    /// Clicks pixel `(x, y)` and waits for its ray tree: the tree's first line.
+    fn tree_of_pixel(&self, x: u32, y: u32) -> String {
+        let trees = self
+            .run("return Number(document.body.dataset.trees);")
+            .as_u64()
+            .unwrap();
+        self.click_pixel(x, y);
+        self.wait_for(&format!("Number(document.body.dataset.trees) > {trees}"));
+        let text = self.run("return document.getElementById('tree').innerText;");
+        text.as_str().unwrap().lines().next().unwrap_or("").to_string()
+    }
+
+    /// The picture's box on screen (left, top, width, height), the window's inner
+    /// size and the page's scale.
+    fn picture_box(&self) -> Value {
+        self.run(
+            "const r = document.getElementById('picture').getBoundingClientRect();\n\
+             return {left: r.left, top: r.top, width: r.width, height: r.height, right: r.right,\n\
+                     bottom: r.bottom, window_width: window.innerWidth, window_height: window.innerHeight,\n\
+                     scale: Number(document.body.dataset.scale)};",
+        )
+    }
+
+    /// Types `text` into the field `id` and presses Enter.
+    fn type_into(&self, id: &str, text: &str) {
+        let field = self.cmd(
+            "POST",
+            "element",
+            json!({"using": "css selector", "value": format!("#{id}")}),
+        );
+        let element = field[ELEMENT].as_str().unwrap().to_string();
+        // (WebDriver's clear would commit the empty field: a change of its own.)
+        self.run(&format!("document.getElementById('{id}').value = '';"));
+        self.cmd(
+            "POST",
+            &format!("element/{element}/value"),
+            json!({"text": format!("{text}\u{E007}")}),
+        );
+    }
+}
+
+/// The picture is fitted to the window (aspect kept), 1:1 on request, and a click
+/// picks the pixel under it either way; a lens pixel's rays are drawn where they hit,
+/// not as lines from the lens across the picture; a refused setting says why.
+#[test]
+fn the_picture_fits_clicks_find_their_pixel_lens_rays_stay_put_and_bad_settings_say_why() {
+    let Some((driver, shots, work)) = setup("fit") else {
+        return;
+    };
+    let file = work.join("lens.p3f");
+    std::fs::write(&file, LENS_SCENE).unwrap();
+    let server = Server::start(&file, &["--spp", "4"]);
+    let browser = Browser::start(&driver, &work.join("profile"));
+    browser.cmd("POST", "url", json!({"url": server.url}));
+    browser.wait_for("document.body.dataset.complete === 'true'");
+
+    // Fitted: scaled up to the room there is, 4:3 kept, all of it in the window.
+    let fits = |b: &Value, w: f64, h: f64| {
+        let f = |k: &str| b[k].as_f64().unwrap();
+        assert!(
+            f("bottom") <= f("window_height") && f("right") <= f("window_width"),
+            "{b}"
+        );
+        assert!((f("width") / f("height") - w / h).abs() < 0.01, "aspect: {b}");
+        assert!((f("width") - w * f("scale")).abs() < 0.5, "{b}");
+    };
+    let fitted = browser.picture_box();
+    fits(&fitted, 320.0, 240.0);
+    assert!(fitted["scale"].as_f64().unwrap() > 1.5, "scaled up: {fitted}");
+    assert!(browser
+        .tree_of_pixel(250, 60)
+        .starts_with("pixel (250, 60) of 320x240"));
+
+    // The lens pixel at the centre: its 4 eye rays hit the sphere in a small blurred
+    // spot; nothing is drawn far from the clicked pixel (lines from the lens positions
+    // used to fan out to the picture's edges).
+    let head = browser.tree_of_pixel(160, 120);
+    assert!(head.starts_with("pixel (160, 120)"), "{head}");
+    let far = browser.run(
+        "const o = document.getElementById('overlay');\n\
+         const d = o.getContext('2d').getImageData(0, 0, o.width, o.height).data;\n\
+         let painted = 0, far = 0;\n\
+         for (let i = 3; i < d.length; i += 4) { if (d[i] === 0) continue; painted++;\n\
+           const p = (i - 3) / 4, x = p % o.width, y = Math.floor(p / o.width);\n\
+           if (Math.hypot(x - 160.5, y - 120.5) > 40) far++; }\n\
+         return [painted, far];",
+    );
+    assert!(
+        far[0].as_u64().unwrap() > 10 && far[1] == 0,
+        "painted, far from the pixel: {far}"
+    );
+    browser.screenshot(&shots.join("6-lens-pixel.png"));
+
+    // 1:1: one picture pixel per CSS pixel (device pixel ratio 1 here); clicks still
+    // find their pixel.
+    browser.cmd(
+        "POST",
+        "execute/sync",
+        json!({"script": "document.getElementById('actual').click();", "args": []}),
+    );
+    browser.wait_for("document.body.dataset.actual === 'true'");
+    let actual = browser.picture_box();
+    assert_eq!(
+        (actual["width"].as_f64(), actual["height"].as_f64()),
+        (Some(320.0), Some(240.0)),
+        "{actual}"
+    );
+    assert!(browser
+        .tree_of_pixel(40, 200)
+        .starts_with("pixel (40, 200) of 320x240"));
+    browser.screenshot(&shots.join("7-one-to-one.png"));
+
+    // A square picture of 512 x 512, fitted again: wider than tall room, so the height
+    // decides, and none of it is cut off at the bottom.
+    browser.cmd(
+        "POST",
+        "execute/sync",
+        json!({"script": "document.getElementById('actual').click();", "args": []}),
+    );
+    browser.wait_for("document.body.dataset.actual === 'false'");
+    browser.type_into("width", "512");
+    browser.type_into("height", "512");
+    browser.wait_for(
+        "document.getElementById('picture').height === 512 && document.getElementById('picture').width === 512 \
+         && document.body.dataset.complete === 'true'",
+    );
+    fits(&browser.picture_box(), 512.0, 512.0);
+    assert!(browser
+        .tree_of_pixel(500, 7)
+        .starts_with("pixel (500, 7) of 512x512"));
+    browser.screenshot(&shots.join("8-fitted-512.png"));
+
+    // Refused settings say why, with the limits the server sent.
+    for (typed, says) in [
+        (
+            "40000",
+            "width: 40000 refused, a whole number from 1 to 32768; kept 512",
+        ),
+        (
+            "abc",
+            "width: abc refused, a whole number from 1 to 32768; kept 512",
+        ),
+    ] {
+        browser.type_into("width", typed);
+        browser.wait_for("document.body.dataset.optionsError !== undefined");
+        let shown = browser.run("return document.getElementById('options-error').innerText;");
+        assert_eq!(shown.as_str(), Some(says));
+        assert_eq!(
+            browser
+                .run("return document.getElementById('width').value;")
+                .as_str(),
+            Some("512")
+        );
+        if typed == "40000" {
+            browser.screenshot(&shots.join("9-width-error.png"));
+        }
+        browser.run("delete document.body.dataset.optionsError;");
+    }
 }

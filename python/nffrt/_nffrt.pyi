@@ -97,7 +97,11 @@ class Scene:
     def last_stats(self) -> Optional[Stats]:
         """Ray counts and time of the last finished render."""
     @property
-    def path(self) -> Optional[str]: ...
+    def path(self) -> Optional[str]:
+        """The file loaded, or the ``path`` given to ``parse``; ``None`` for text."""
+    @property
+    def text(self) -> Optional[Union[str, bytes]]:
+        """The text ``parse`` was given (``None`` for a loaded file)."""
     @property
     def format(self) -> str:
         """``"nff"``, ``"p3f-2019"`` or ``"p3f-2025"``."""
@@ -127,8 +131,12 @@ def load(path: StrPath, format: Optional[str] = None) -> Scene:
     """Reads and prepares a scene file (``format``: ``"nff"``, ``"p3f"``, or by the
     extension). Raises ``SceneError`` or ``OSError``."""
 
-def parse(text: Union[str, bytes], format: str = "nff") -> Scene:
-    """Parses and prepares scene text. Raises ``SceneError``."""
+def parse(
+    text: Union[str, bytes], format: Optional[str] = None, path: Optional[StrPath] = None
+) -> Scene:
+    """Parses and prepares scene text (``format``: ``"nff"``, ``"p3f"``, or by
+    ``path``'s extension, else NFF); ``path`` names the file the text is (in errors,
+    and for the folder of its skybox). Raises ``SceneError``."""
 
 def gen(name: str, size: Optional[int] = None) -> str:
     """An SPD scene (balls, gears, mount, rings, teapot, tetra, tree) as NFF text."""

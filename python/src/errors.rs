@@ -35,18 +35,28 @@ pub fn scene_error(py: Python<'_>, path: Option<&str>, line: u32, column: u32, m
     }
 }
 
-/// The exception for a scene that did not load: `path` is None for text.
-pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError) -> PyErr {
+/// The exception for a scene that did not load: `path` is None for text; `hint`,
+/// if any, follows a parse error's message in brackets. A word of the other
+/// language's is named as such, with Python's way of choosing the format.
+pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError, hint: Option<&str>) -> PyErr {
     match e {
         LoadError::Parse { error, .. } => {
             let path = path.map(|p| p.display().to_string());
-            scene_error(
-                py,
-                path.as_deref(),
-                error.line,
-                error.column,
-                error.kind.to_string(),
-            )
+            let (plain, other) = error.kind.without_language_hint();
+            let message = match (hint, other) {
+                (Some(hint), _) => format!("{plain} ({hint})"),
+                (None, Some(f)) => {
+                    let (name, arg) = match f {
+                        nffrt::nff::Format::Nff => ("an NFF", "nff"),
+                        nffrt::nff::Format::P3f => ("a P3F", "p3f"),
+                    };
+                    format!(
+                        "{plain}: it is {name} keyword (pass format=\"{arg}\" if the scene is {name} file)"
+                    )
+                }
+                (None, None) => plain,
+            };
+            scene_error(py, path.as_deref(), error.line, error.column, message)
         }
         // A file the scene names (a skybox image) is missing, unreadable or corrupt:
         // an OSError naming it, as the command line treats it.

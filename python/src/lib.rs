@@ -18,7 +18,7 @@ mod scene;
 use std::path::PathBuf;
 
 use nffrt::gen::{generate, SpdScene};
-use nffrt::nff::{write_nff, Format};
+use nffrt::nff::write_nff;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
@@ -36,13 +36,20 @@ fn load(py: Python<'_>, path: PathBuf, format: Option<&str>) -> PyResult<PyScene
     scene::load(py, path, scene::parse_format(format)?)
 }
 
-/// Parses scene text (`str` or `bytes`) in `format` (`"nff"` or `"p3f"`) and builds
-/// its BVH. Raises `SceneError` (with `path=None`) for a malformed scene.
+/// Parses scene text (`str` or `bytes`) in `format` (`"nff"` or `"p3f"`; default:
+/// by `path`'s extension, else NFF) and builds its BVH. `path` says which file the
+/// text is (errors name it, and a skybox is found in its folder rather than the
+/// current directory). Raises `SceneError` for a malformed scene (`path=None` for
+/// text without one); P3F text parsed as NFF says to pass `format="p3f"`.
 #[pyfunction]
-#[pyo3(signature = (text, format="nff"))]
-fn parse(py: Python<'_>, text: &Bound<'_, PyAny>, format: &str) -> PyResult<PyScene> {
-    let format = scene::parse_format(Some(format))?.unwrap_or(Format::Nff);
-    scene::parse(py, &scene::text_bytes(text)?, format)
+#[pyo3(signature = (text, format=None, path=None))]
+fn parse(
+    py: Python<'_>,
+    text: &Bound<'_, PyAny>,
+    format: Option<&str>,
+    path: Option<PathBuf>,
+) -> PyResult<PyScene> {
+    scene::parse(py, text, scene::parse_format(format)?, path)
 }
 
 /// The SPD's classic scene `name` (balls, gears, mount, rings, teapot, tetra, tree)

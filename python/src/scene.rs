@@ -3,13 +3,14 @@
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
 use nffrt::image::Region;
-use nffrt::load::{load_cancellable, LoadOptions, Source};
+use nffrt::load::{load_cancellable, LoadError, LoadOptions, Source};
 use nffrt::math::Vec3;
-use nffrt::nff::Format;
+use nffrt::nff::{parse_format_cancellable, Format, Limits};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{image_size, RenderOptions, RenderRequest, Stats};
 use nffrt::scene::{Dialect, Light, SceneInfo};
@@ -31,6 +32,9 @@ const PREVIEW_SIDE: u32 = 256;
 pub struct PyScene {
     prepared: RenderScene,
     path: Option<PathBuf>,
+    /// The `str` or `bytes` object parsed (held, not copied; `None` for a file):
+    /// what `nffrt.dask.render` sends to the workers.
+    text: Option<Py<PyAny>>,
     format: Format,
     last_stats: Mutex<Option<(Stats, f64)>>,
 }
@@ -45,10 +49,56 @@ pub fn parse_format(format: Option<&str>) -> PyResult<Option<Format>> {
     }
 }
 
+/// A scene that did not load, and what its message should add, if anything.
+struct Unloaded {
+    error: LoadError,
+    hint: Option<&'static str>,
+}
+
+impl Unloaded {
+    /// The Python exception (`path` None for text).
+    fn into_py(self, py: Python<'_>, path: Option<&Path>) -> PyErr {
+        load_error(py, path, self.error, self.hint)
+    }
+}
+
 /// Why `load` failed: the file itself, or what it holds.
 enum LoadFailure {
     Read(std::io::Error),
-    Load(nffrt::load::LoadError),
+    Load(Unloaded),
+}
+
+/// What a failed NFF parse adds when the same bytes read as P3F: P3F text given
+/// without its format fails at its first P3F keyword, which alone does not say so.
+const P3F_HINT: &str = "the scene reads as P3F: pass format=\"p3f\"";
+
+/// Loads `bytes` in `format` through the library's one load path, named `name`, the
+/// files they name found in `dir`, and prepares the scene; a failed NFF parse comes
+/// with [`P3F_HINT`] when the bytes parse as P3F.
+fn load_prepared(
+    bytes: &[u8],
+    format: Format,
+    name: &str,
+    dir: Option<&Path>,
+    cancel: &AtomicBool,
+) -> Result<RenderScene, Unloaded> {
+    let opts = LoadOptions {
+        format: Some(format),
+        ..LoadOptions::default()
+    };
+    let source = Source::Text { name, bytes, dir };
+    match load_cancellable(source, &opts, cancel) {
+        Ok(loaded) => Ok(prepare(loaded.scene, &loaded.assets)),
+        Err(e) => {
+            let reads_as_p3f = matches!(e, LoadError::Parse { .. })
+                && format == Format::Nff
+                && parse_format_cancellable(bytes, Format::P3f, &Limits::default(), cancel).is_ok();
+            Err(Unloaded {
+                error: e,
+                hint: reads_as_p3f.then_some(P3F_HINT),
+            })
+        }
+    }
 }
 
 /// Reads, parses and prepares the scene file at `path`, without the GIL; Ctrl-C
@@ -59,47 +109,36 @@ pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<P
         // Read here, so that a missing file raises the OSError subclass of its errno.
         let bytes = std::fs::read(&path).map_err(LoadFailure::Read)?;
         let name = path.display().to_string();
-        let source = Source::Text {
-            name: &name,
-            bytes: &bytes,
-            dir: path.parent(),
-        };
-        load_prepared(source, format, cancel.flag()).map_err(LoadFailure::Load)
+        load_prepared(&bytes, format, &name, path.parent(), cancel.flag()).map_err(LoadFailure::Load)
     })?;
     let prepared = prepared.map_err(|e| match e {
         LoadFailure::Read(e) => io_error(&path, &e),
-        LoadFailure::Load(e) => load_error(py, Some(&path), e),
+        LoadFailure::Load(u) => u.into_py(py, Some(&path)),
     })?;
-    Ok(PyScene::new(prepared, Some(path), format))
+    Ok(PyScene::new(prepared, Some(path), None, format))
 }
 
-/// Parses and prepares scene text, without the GIL (files it names are found from
-/// the current directory); Ctrl-C stops the parse.
-pub fn parse(py: Python<'_>, text: &[u8], format: Format) -> PyResult<PyScene> {
+/// Parses and prepares scene text (`str` or `bytes`), without the GIL; Ctrl-C stops
+/// the parse. With `path`, the text is that file's: errors name it and the files it
+/// names are found in its folder (else in the current directory); `format` defaults
+/// to the path's extension's, else NFF. The scene keeps `text` (a reference).
+pub fn parse(
+    py: Python<'_>,
+    text: &Bound<'_, PyAny>,
+    format: Option<Format>,
+    path: Option<PathBuf>,
+) -> PyResult<PyScene> {
+    let bytes = text_bytes(text)?;
+    let format = format.unwrap_or_else(|| path.as_deref().map_or(Format::Nff, Format::of_path));
+    let name = path
+        .as_deref()
+        .map_or("<string>".into(), |p| p.display().to_string());
+    let dir = path.as_deref().and_then(Path::parent);
     let prepared = without_gil(py, None, |cancel| {
-        let source = Source::Text {
-            name: "<string>",
-            bytes: text,
-            dir: None,
-        };
-        load_prepared(source, format, cancel.flag())
+        load_prepared(&bytes, format, &name, dir, cancel.flag())
     })?;
-    let prepared = prepared.map_err(|e| load_error(py, None, e))?;
-    Ok(PyScene::new(prepared, None, format))
-}
-
-/// Loads `source` in `format` (the library's defaults otherwise) and prepares it.
-fn load_prepared(
-    source: Source<'_>,
-    format: Format,
-    cancel: &std::sync::atomic::AtomicBool,
-) -> Result<RenderScene, nffrt::load::LoadError> {
-    let opts = LoadOptions {
-        format: Some(format),
-        ..LoadOptions::default()
-    };
-    let loaded = load_cancellable(source, &opts, cancel)?;
-    Ok(prepare(loaded.scene, &loaded.assets))
+    let prepared = prepared.map_err(|u| u.into_py(py, path.as_deref()))?;
+    Ok(PyScene::new(prepared, path, Some(text.clone().unbind()), format))
 }
 
 /// The bytes of a `str` (UTF-8) or `bytes` object.
@@ -125,10 +164,11 @@ fn vec3(v: Vec3) -> (f64, f64, f64) {
 }
 
 impl PyScene {
-    fn new(prepared: RenderScene, path: Option<PathBuf>, format: Format) -> PyScene {
+    fn new(prepared: RenderScene, path: Option<PathBuf>, text: Option<Py<PyAny>>, format: Format) -> PyScene {
         PyScene {
             prepared,
             path,
+            text,
             format,
             last_stats: Mutex::new(None),
         }
@@ -269,10 +309,17 @@ impl PyScene {
         Ok(Some(d))
     }
 
-    /// The file the scene was loaded from (`None` for text).
+    /// The file the scene was loaded from, or the `path` its text was parsed as
+    /// (`None` for text without one).
     #[getter]
     fn path(&self) -> Option<String> {
         self.path.as_ref().map(|p| p.display().to_string())
+    }
+
+    /// The `str` or `bytes` the scene was parsed from (`None` for a loaded file).
+    #[getter]
+    fn text(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.text.as_ref().map(|t| t.clone_ref(py))
     }
 
     /// The language: `"nff"`, `"p3f-2019"` or `"p3f-2025"` (the P3F course's dialects).

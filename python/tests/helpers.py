@@ -12,16 +12,29 @@ import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
-SHARED = REPO.parent / "shared"
+# $NFFRT_SHARED, as for the Rust tests (NFFRT_SHARED=/nowhere rehearses a fresh clone).
+SHARED = Path(os.environ.get("NFFRT_SHARED") or REPO.parent / "shared")
 DATA = REPO / "tests" / "data"
+
+# The reason of every ../shared skip, as the Rust tests give it (tests/common/skip.rs);
+# conftest.py fails such skips when NFFRT_REQUIRE_SHARED=1.
+SHARED_ABSENT = "../shared is absent (the SPD and course scenes, reference pictures)"
+
+
+def shared_path(relative: str) -> Path:
+    """``../shared/RELATIVE``, or a skip saying ../shared is absent (or that this
+    is missing from it)."""
+    path = SHARED / relative
+    if not path.exists():
+        if SHARED.is_dir():
+            pytest.skip(f"{relative} is absent from ../shared")
+        pytest.skip(SHARED_ABSENT)
+    return path
 
 
 def shared(*parts: str) -> Path:
-    """A file under ../shared/scenes, or a skip naming it."""
-    path = SHARED.joinpath("scenes", *parts)
-    if not path.exists():
-        pytest.skip(f"{path} is absent (../shared beside the checkout holds the shared scenes)")
-    return path
+    """A file under ../shared/scenes, or a skip (see ``shared_path``)."""
+    return shared_path("/".join(("scenes", *parts)))
 
 
 def run_cli(binary: str, *args: str, cwd: Path | None = None) -> None:

@@ -104,10 +104,13 @@ def test_p3f_text_parses_with_format() -> None:
     assert scene.format == "p3f-2025" and scene.path is None
     with pytest.raises(nffrt.SceneError) as caught:
         nffrt.parse(text)  # P3F keywords are not NFF
-    # The first P3F keyword gets the hint (issue 30, item D).
-    word = caught.value.message.split('"')[1]
-    assert caught.value.message.endswith(
-        f'"{word}" is a P3F keyword: is this a P3F file? (--format p3f)'
+    # The first P3F keyword gets the hint in Python's words (issue 30, items 3 and 7).
+    assert caught.value.message.endswith('(the scene reads as P3F: pass format="p3f")'), caught.value.message
+    # A P3F keyword in text that is not P3F either: named as one, with the same advice.
+    with pytest.raises(nffrt.SceneError) as caught:
+        nffrt.parse("accel bvh\ns 0 0 0\n")
+    assert caught.value.message == (
+        'unknown keyword "accel": it is a P3F keyword (pass format="p3f" if the scene is a P3F file)'
     ), caught.value.message
 
 

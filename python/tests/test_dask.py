@@ -64,3 +64,29 @@ def test_worker_errors_come_back_as_themselves(client) -> None:
         nffrt.dask.render(nffrt.gen("tetra", size=1), client, tiles=2, max_depth=0)
     with pytest.raises(ValueError, match="no region"):
         nffrt.dask.render(nffrt.gen("tetra", size=1), client, region=(0, 0, 1, 1))
+
+
+def test_a_scene_object_travels_as_its_text(client, tmp_path) -> None:
+    text = nffrt.gen("tetra", size=2)
+    opts = {"width": 40, "height": 30, "spp": 2}
+    # Parsed as a file no worker (nor anyone) can open: its text is what travels.
+    parsed = nffrt.parse(text, path="/nonexistent/folder/tetra.nff")
+    local = parsed.render(**opts)
+    assert nffrt.dask.render(parsed, client, tiles=3, **opts).tobytes() == local.tobytes()
+    # Loaded from a file: the file is read where the client runs.
+    path = tmp_path / "tetra.nff"
+    path.write_text(text)
+    loaded = nffrt.load(path)
+    assert nffrt.dask.render(loaded, client, tiles=3, **opts).tobytes() == local.tobytes()
+    with pytest.raises(ValueError, match="read as 'nff'"):
+        nffrt.dask.render(loaded, client, format="p3f")
+
+
+def test_p3f_text_needs_its_format(client) -> None:
+    from test_errors import P3F_TEXT
+
+    local = nffrt.parse(P3F_TEXT, format="p3f").render()
+    assert nffrt.dask.render(P3F_TEXT, client, tiles=2, format="p3f").tobytes() == local.tobytes()
+    assert nffrt.dask.render(nffrt.parse(P3F_TEXT, format="p3f"), client, tiles=2).tobytes() == local.tobytes()
+    with pytest.raises(nffrt.SceneError, match='pass format="p3f"'):
+        nffrt.dask.render(P3F_TEXT, client, tiles=2)

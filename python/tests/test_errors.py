@@ -148,3 +148,36 @@ def test_non_finite_pixels_are_saved_not_refused(tmp_path: Path) -> None:
     image[0, 0] = np.inf
     nffrt.save(image, tmp_path / "x.png")
     nffrt.save(image, tmp_path / "x.pfm")
+
+
+# A P3F scene (its `bclr` and its eleven-number material are P3F's alone).
+P3F_TEXT = (
+    "bclr 0.1 0.1 0.1\n"
+    "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 16 12\n"
+    "l 0 0 10\n"
+    "f 1 0 0 1 1 1 1 0.5 10 0 1\n"
+    "s 0 0 0 1\n"
+)
+
+
+def test_p3f_text_read_as_nff_says_to_pass_its_format() -> None:
+    with pytest.raises(nffrt.SceneError) as caught:
+        nffrt.parse(P3F_TEXT)
+    e = caught.value
+    assert (e.line, e.column) == (1, 1)
+    assert e.message == 'unknown keyword "bclr" (the scene reads as P3F: pass format="p3f")'
+    assert nffrt.parse(P3F_TEXT, format="p3f").format == "p3f-2019"
+    # An NFF error that is not P3F either gets no such hint.
+    with pytest.raises(nffrt.SceneError) as caught:
+        nffrt.parse("s 0 0 0\n")
+    assert "P3F" not in caught.value.message
+
+
+def test_text_parsed_as_a_file_names_it_and_takes_its_format(tmp_path: Path) -> None:
+    path = tmp_path / "scene.p3f"
+    scene = nffrt.parse(P3F_TEXT, path=path)
+    assert (scene.format, scene.path, scene.text) == ("p3f-2019", str(path), P3F_TEXT)
+    assert nffrt.load(DATA / "ok" / "tabs.nff").text is None
+    with pytest.raises(nffrt.SceneError) as caught:
+        nffrt.parse(P3F_TEXT.replace("s 0 0 0 1", "s 0 0 zero 1"), path=path)
+    assert str(caught.value).startswith(f"{path}:5:7: ")

@@ -295,12 +295,10 @@ s 3 3 3 0.5 # end
 
     #[test]
     fn the_spd_files_in_pieces_give_the_one_pass_scene() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/spd");
-        let Ok(entries) = std::fs::read_dir(&dir) else {
-            eprintln!("skipped: {} not found", dir.display());
+        let Some(dir) = crate::test_skip::shared("scenes/spd") else {
             return;
         };
-        for entry in entries {
+        for entry in std::fs::read_dir(&dir).unwrap() {
             let path = entry.unwrap().path();
             let text = std::fs::read(&path).unwrap();
             let want = one_pass(&text);

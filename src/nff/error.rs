@@ -52,6 +52,18 @@ impl ParseError {
     }
 }
 
+impl ParseErrorKind {
+    /// The message without the command line's hint of the other language (for a
+    /// front end that says how to choose the format in its own words), and that
+    /// language when the message has the hint.
+    pub fn without_language_hint(&self) -> (String, Option<Format>) {
+        match self {
+            ParseErrorKind::UnknownKeyword { word, other } => (format!("unknown keyword {word}"), *other),
+            kind => (kind.to_string(), None),
+        }
+    }
+}
+
 /// `; "accel" is a P3F keyword: is this a P3F file? (--format p3f)` when the word is a
 /// keyword of `other`, else nothing.
 fn other_language_hint(word: &str, other: Option<Format>) -> String {

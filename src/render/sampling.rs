@@ -464,9 +464,25 @@ mod tests {
         sample_2d(x, y, s, Dim::Pixel)
     }
 
+    /// `mix` is SplitMix64's output function: the generator seeded with 0 returns
+    /// `mix` of its state before each step of the golden gamma, and its published
+    /// first outputs (Vigna's splitmix64.c) are these.
+    #[test]
+    fn mix_gives_splitmix64s_published_outputs() {
+        let gamma = 0x9E37_79B9_7F4A_7C15u64;
+        let outputs: Vec<u64> = (0..3u64).map(|k| mix(k.wrapping_mul(gamma))).collect();
+        assert_eq!(
+            outputs,
+            [
+                0xE220_A839_7B1D_CDAF,
+                0x6E78_9E6A_A1B9_65F4,
+                0x06C4_5D18_8009_454F
+            ]
+        );
+    }
+
     #[test]
     fn jitter_depends_on_pixel_and_sample_only() {
-        assert_eq!(jitter(3, 4, 2), jitter(3, 4, 2));
         // Swapped coordinates, neighbours, other samples and dimensions get other offsets.
         let lens = sample_2d(3, 4, 2, Dim::Lens);
         let light = sample_2d(3, 4, 2, Dim::Light { light: 0, depth: 1 });

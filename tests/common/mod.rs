@@ -101,17 +101,10 @@ pub fn nff_files(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-/// Every `.nff` under `../shared/scenes/{spd,p3d}`, or `None` (after printing a note) when
+/// Every `.nff` under `../shared/scenes/{spd,p3d}`, or `None` (after [`skip::skip`]) when
 /// the shared directory is absent, as it is outside the development machines.
 pub fn shared_scenes() -> Option<Vec<PathBuf>> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
-    if !root.is_dir() {
-        eprintln!(
-            "note: {} is absent: skipping the shared-scene checks",
-            root.display()
-        );
-        return None;
-    }
+    let root = skip::shared("scenes")?;
     let mut all = Vec::new();
     for sub in ["spd", "p3d"] {
         let dir = root.join(sub);
@@ -153,6 +146,7 @@ pub fn name(path: &Path) -> String {
 }
 
 pub mod compare;
+pub mod skip;
 
 /// The whitespace-separated tokens of a scene's text with `#` comments stripped: all
 /// the independent entity counters of the tests need (they never parse a scene).

@@ -25,6 +25,8 @@ pub const PATIENCE: Duration = Duration::from_secs(120);
 /// A running `nffrt view`, stopped when dropped.
 pub struct Server {
     child: Child,
+    /// The lines of its standard output after the first, as they come.
+    stdout: mpsc::Receiver<String>,
     /// Its port.
     pub port: u16,
     /// Its access token.
@@ -36,22 +38,38 @@ pub struct Server {
 impl Server {
     /// Starts `nffrt view SCENE --no-open --port 0 EXTRA...` and reads its URL.
     pub fn start(scene: &Path, extra: &[&str]) -> Server {
+        Server::start_with_input(scene, extra, None)
+    }
+
+    /// [`Server::start`] with `input` written to its standard input (then closed).
+    pub fn start_with_input(scene: &Path, extra: &[&str], input: Option<&[u8]>) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
             .arg("view")
             .arg(scene)
             .args(["--no-open", "--port", "0"])
             .args(extra)
-            .stdin(Stdio::null())
+            .stdin(if input.is_some() {
+                Stdio::piped()
+            } else {
+                Stdio::null()
+            })
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
             .expect("nffrt starts");
+        if let Some(bytes) = input {
+            let mut stdin = child.stdin.take().expect("piped stdin");
+            stdin.write_all(bytes).expect("the scene goes to standard input");
+        }
         let stdout = child.stdout.take().expect("piped stdout");
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
-            let mut line = String::new();
-            let _ = BufReader::new(stdout).read_line(&mut line);
-            let _ = tx.send(line);
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
         });
         let line = rx.recv_timeout(PATIENCE).expect("nffrt view prints its URL");
         let url = line
@@ -63,6 +81,7 @@ impl Server {
         let (port, token) = rest.split_once("/?token=").expect("a token in the URL");
         Server {
             child,
+            stdout: rx,
             port: port.parse().expect("a port"),
             token: token.to_string(),
             url,
@@ -74,14 +93,21 @@ impl Server {
         format!("127.0.0.1:{}", self.port)
     }
 
+    /// The lines it printed after its URL so far (waiting up to a second for each;
+    /// for lines printed with the URL, before it served anything).
+    pub fn printed_after_url(&self) -> Vec<String> {
+        std::iter::from_fn(|| self.stdout.recv_timeout(Duration::from_secs(1)).ok()).collect()
+    }
+
     /// True while the process runs.
     pub fn alive(&mut self) -> bool {
         self.child.try_wait().expect("process state").is_none()
     }
 
-    /// Sends SIGINT (Ctrl-C) to the server and waits for it to exit: its exit code.
+    /// Sends SIGINT (Ctrl-C) to the server and waits for it to exit: its exit code
+    /// and what it printed after its URL.
     #[cfg(unix)]
-    pub fn interrupt(&mut self) -> Option<i32> {
+    pub fn interrupt(&mut self) -> (Option<i32>, Vec<String>) {
         let sent = Command::new("kill")
             .args(["-INT", &self.child.id().to_string()])
             .status();
@@ -89,7 +115,8 @@ impl Server {
         let t0 = Instant::now();
         loop {
             if let Some(status) = self.child.try_wait().expect("process state") {
-                return status.code();
+                // The reader thread ends with the pipe, once the process has exited.
+                return (status.code(), self.stdout.iter().collect());
             }
             assert!(t0.elapsed() < PATIENCE, "the server did not stop on SIGINT");
             std::thread::sleep(Duration::from_millis(20));
@@ -128,11 +155,18 @@ impl Server {
     /// `GET path_and_query` with these headers (`Host` defaults to the server's):
     /// the status code and the body.
     pub fn get(&self, path_and_query: &str, headers: &[(&str, &str)]) -> (u16, Vec<u8>) {
-        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).expect("connect");
+        self.get_via(&self.host(), path_and_query, headers)
+    }
+
+    /// [`Server::get`] through `address` (`IP:PORT`, IPv6 in brackets), which is
+    /// also the default `Host`.
+    pub fn get_via(&self, address: &str, path_and_query: &str, headers: &[(&str, &str)]) -> (u16, Vec<u8>) {
+        let target: std::net::SocketAddr = address.parse().expect("an IP:PORT address");
+        let mut stream = TcpStream::connect(target).expect("connect");
         stream.set_read_timeout(Some(PATIENCE)).unwrap();
         let mut request = format!("GET {path_and_query} HTTP/1.1\r\nConnection: close\r\n");
         if !headers.iter().any(|(k, _)| k.eq_ignore_ascii_case("host")) {
-            request += &format!("Host: {}\r\n", self.host());
+            request += &format!("Host: {address}\r\n");
         }
         for (k, v) in headers {
             request += &format!("{k}: {v}\r\n");

@@ -278,7 +278,7 @@ mod tests {
     #[test]
     fn avx_slab_test_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
         // Seven boxes and an empty lane.
@@ -325,7 +325,7 @@ mod tests {
     #[test]
     fn avx_hits8_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
         let (block, _, packets) = crate::accel::leaf::ray8::tests::cases();
@@ -348,7 +348,7 @@ mod tests {
     #[test]
     fn avx_pair_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            eprintln!("skipped: this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
             return;
         };
         let (first, tris, packets) = crate::accel::leaf::ray8::tests::cases();

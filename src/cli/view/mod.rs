@@ -7,8 +7,10 @@
 //! guard, connection limit), `security.rs` (token, Host and Origin checks),
 //! `session.rs` (one page's WebSocket), `worker.rs` (its render thread),
 //! `protocol.rs` (the messages), `camera.rs` (views and camera blocks),
-//! `scene.rs` (loading and live reload), `assets.rs` (the page).
+//! `scene.rs` (loading and live reload), `assets.rs` (the page), `addresses.rs` (the
+//! URLs printed).
 
+mod addresses;
 mod assets;
 mod camera;
 mod protocol;
@@ -36,6 +38,7 @@ use server::App;
 #[derive(Args, Debug)]
 pub struct ViewArgs {
     /// Scene file (NFF or P3F); it is watched and rendered again when it changes.
+    /// `-` reads the scene once from standard input (no live reload).
     pub scene: PathBuf,
     /// Port to listen on (0: any free port).
     #[arg(long, default_value_t = 0)]
@@ -55,13 +58,9 @@ pub struct ViewArgs {
     pub limits: SceneLimitArgs,
 }
 
-/// Runs `nffrt view` until Ctrl-C.
+/// Runs `nffrt view` until Ctrl-C, then says `stopped` and succeeds.
 pub fn run(args: ViewArgs) -> Result<(), CliError> {
-    if args.scene == Path::new("-") {
-        return Err(CliError::usage(
-            "view needs a scene file to watch, not standard input",
-        ));
-    }
+    let from_stdin = args.scene == Path::new("-");
     let source = Arc::new(Source {
         path: args.scene.clone(),
         limits: args.limits.clone(),
@@ -96,19 +95,32 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
     let app = Arc::new(App {
         token,
         port,
-        name: args.scene.display().to_string(),
+        name: if from_stdin {
+            "<stdin>".into()
+        } else {
+            args.scene.display().to_string()
+        },
         spp: args.spp,
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,
         sessions: AtomicUsize::new(0),
     });
-    let _watcher = scene::watch(source, app.scene.clone(), app.events.clone()).map_err(CliError::io)?;
-    let shown = match host {
-        IpAddr::V6(h) => format!("[{h}]"),
-        IpAddr::V4(h) => h.to_string(),
+    // Standard input is read once: nothing to watch.
+    let _watcher = if from_stdin {
+        None
+    } else {
+        Some(scene::watch(source, app.scene.clone(), app.events.clone()).map_err(CliError::io)?)
     };
-    let url = format!("http://{shown}:{port}/?token={}", app.token);
+    // The first URL is this machine's (the loopback one for --host 0.0.0.0).
+    let hosts = addresses::hosts_to_show(host);
+    let url = addresses::url(hosts[0], port, &app.token);
     outln!("serving {url}");
+    for other in &hosts[1..] {
+        outln!(
+            "from other machines: {}",
+            addresses::url(*other, port, &app.token)
+        );
+    }
     if !args.no_open {
         open_browser(&url);
     }
@@ -127,7 +139,10 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::io(format!("the server stopped: {e}")))?;
     // Open WebSockets and render threads end with the runtime and the process.
     runtime.shutdown_timeout(Duration::from_millis(200));
-    interrupt::check()
+    // Ctrl-C is how the server is meant to stop: a clean end, not an error (a second
+    // Ctrl-C still ends the process at once, with the interrupted code).
+    outln!("stopped");
+    Ok(())
 }
 
 /// Opens `url` in the desktop's browser, if there is one; failing silently is fine

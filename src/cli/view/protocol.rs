@@ -87,6 +87,30 @@ pub enum ClientMessage {
     Png,
 }
 
+/// The limits the page checks its settings against before it asks (the server
+/// checks every request against the same ones, [`check_options`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LimitsMsg {
+    /// The largest width or height.
+    pub max_side: u32,
+    /// The most pixels, width times height.
+    pub max_pixels: u64,
+    /// The deepest ray tree.
+    pub max_depth: u32,
+    /// The most samples per pixel.
+    pub max_spp: u32,
+}
+
+impl LimitsMsg {
+    /// nffrt's limits (`nffrt::limits`).
+    pub const NFFRT: LimitsMsg = LimitsMsg {
+        max_side: MAX_RESOLUTION,
+        max_pixels: MAX_PIXELS,
+        max_depth: MAX_DEPTH,
+        max_spp: MAX_SPP,
+    };
+}
+
 /// The scene's counts, as the status line shows them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Counts {
@@ -124,6 +148,8 @@ pub enum ServerMessage {
         has_area_lights: bool,
         /// Seconds spent parsing and building.
         load_s: f64,
+        /// What the settings may be.
+        limits: LimitsMsg,
     },
     /// A render request was accepted as generation `gen`, or a reload started one.
     View {

@@ -15,7 +15,7 @@ use tokio::sync::{broadcast, watch};
 
 use super::camera::{camera_block, request, view_of};
 use super::protocol::{
-    encode_binary, parse_client_message, CameraMsg, ClientMessage, OptionsMsg, ServerMessage,
+    encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
 };
 use super::scene::{Loaded, SceneEvent};
 use super::server::App;
@@ -234,6 +234,7 @@ impl Session {
             has_lens: view.aperture > 0.0,
             has_area_lights: info.area_lights() > 0,
             load_s: l.load_s,
+            limits: LimitsMsg::NFFRT,
         }
     }
 

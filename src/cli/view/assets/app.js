@@ -97,6 +97,10 @@ function onScene(msg) {
   $('warnings').replaceChildren(...w.map((t) => Object.assign(document.createElement('li'), { textContent: t })));
   $('lens').disabled = !msg.has_lens;
   $('soft').disabled = !msg.has_area_lights;
+  const lim = msg.limits;
+  for (const [id, max] of [['width', lim.max_side], ['height', lim.max_side], ['depth', lim.max_depth], ['spp', lim.max_spp]]) {
+    $(id).dataset.max = max;
+  }
   if (first) {
     camera = msg.camera;
     options = msg.options;
@@ -145,6 +149,7 @@ function draw(h, rgb) {
   if (picture.width !== h.width || picture.height !== h.height) {
     picture.width = overlay.width = h.width;
     picture.height = overlay.height = h.height;
+    layout();
   }
   const image = new ImageData(cols, rows);
   for (let i = 0, j = 0; i < rgb.length; i += 3, j += 4) {
@@ -180,6 +185,7 @@ function flash(text) {
 
 // --- controls --------------------------------------------------------------
 const fields = { width: 'width', height: 'height', depth: 'max_depth', spp: 'spp' };
+const labels = { width: 'width', height: 'height', depth: 'max depth', spp: 'target spp' };
 
 function showOptions() {
   for (const [id, key] of Object.entries(fields)) $(id).value = options[key];
@@ -187,19 +193,69 @@ function showOptions() {
   $('soft').checked = options.soft_shadows;
 }
 
+// Says why a setting was refused (and the old value kept), or clears the message.
+function optionsError(text) {
+  $('options-error').hidden = !text;
+  $('options-error').textContent = text || '';
+  if (text) body.dataset.optionsError = text;
+  else delete body.dataset.optionsError;
+}
+
+// Why field `id` cannot take `text`, or null. The limits are the server's, sent with
+// the scene message; it checks them again. (Text fields, not number fields: those
+// swallow what is no number, and the page could not say what it refused.)
+function refusal(id, text) {
+  const max = Number($(id).dataset.max);
+  const v = /^\s*\d+\s*$/.test(text) ? Number(text) : NaN;
+  if (!Number.isInteger(v) || v < 1 || v > max) return `a whole number from 1 to ${max}`;
+  if (id === 'width' || id === 'height') {
+    const [w, h] = id === 'width' ? [v, options.height] : [options.width, v];
+    const most = scene.limits.max_pixels;
+    if (w * h > most) return `${w} × ${h} = ${w * h} pixels, more than ${most}`;
+  }
+  return null;
+}
+
 for (const [id, key] of Object.entries(fields)) {
   $(id).addEventListener('change', () => {
-    const v = Math.round(Number($(id).value));
-    if (Number.isFinite(v) && v >= Number($(id).min) && v <= Number($(id).max)) {
-      options = { ...options, [key]: v };
-      requestRender();
-    } else {
+    if (!options || !scene) return;
+    const typed = $(id).value;
+    const why = refusal(id, typed);
+    if (why) {
+      optionsError(`${labels[id]}: ${typed.trim() === '' ? 'nothing' : typed.trim()} refused, ${why}; kept ${options[key]}`);
       $(id).value = options[key];
+      return;
     }
+    optionsError(null);
+    options = { ...options, [key]: Number(typed) };
+    requestRender();
   });
 }
 $('lens').addEventListener('change', () => { options = { ...options, lens: $('lens').checked }; requestRender(); });
 $('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
+$('actual').addEventListener('change', layout);
+window.addEventListener('resize', layout);
+
+// The picture's size on screen: fitted to the stage's width and the window's height
+// below the stage's top, aspect kept (scaled up or down; pixels stay sharp), or 1:1,
+// one picture pixel per device pixel, the stage scrolling when it is larger. The
+// overlay takes the same size; clicks map back through the drawn size (pixelAt).
+function layout() {
+  const stage = $('stage');
+  const actual = $('actual').checked;
+  const room = window.innerHeight - (stage.getBoundingClientRect().top + window.scrollY) - 16;
+  const scale = actual
+    ? 1 / (window.devicePixelRatio || 1)
+    : Math.max(Math.min(stage.clientWidth / picture.width, room / picture.height), 1e-3);
+  for (const c of [picture, overlay]) {
+    c.style.width = `${picture.width * scale}px`;
+    c.style.height = `${picture.height * scale}px`;
+  }
+  stage.classList.toggle('actual', actual);
+  stage.style.maxHeight = actual ? `${Math.max(room, 100)}px` : '';
+  body.dataset.scale = scale;
+  body.dataset.actual = actual;
+}
 
 function reset() {
   if (!scene) return;
@@ -377,6 +433,9 @@ function showTree(msg) {
   tree.replaceChildren(
     el('div', 'value', `pixel (${t.x}, ${t.y}) of ${t.opts.width}x${t.opts.height}: value ${fmt(value)} → 8-bit (${value.map(q).join(', ')})`),
     el('div', 'fact', `rays: ${t.stats.eye_rays} eye, ${t.stats.reflection_rays} reflection, ${t.stats.refraction_rays} refraction, ${t.stats.shadow_rays} shadow (${t.stats.shadow_blocked} blocked)`),
+    el('div', 'help', t.lens
+      ? 'Over the picture: a yellow dot where each eye ray hits (each leaves its own point of the lens, so they spread over the out-of-focus area), then reflections (cyan), refractions (magenta) and shadow rays (dashed).'
+      : 'Over the picture: a yellow dot where the eye ray hits, then reflections (cyan), refractions (magenta) and shadow rays (dashed).'),
   );
   t.samples.forEach(([sample, node], k) => {
     const raster = sample.raster;
@@ -391,9 +450,12 @@ function showTree(msg) {
   body.dataset.trees = Number(body.dataset.trees) + 1;
 }
 
-// Draws the last ray tree's rays over the picture: segments between hits (cut at
-// the camera plane), dashed shadow rays to point lights (green lit, red blocked),
-// and a ring at the clicked pixel while the camera has not moved.
+// Draws the last ray tree over the picture: a dot where each eye ray hits (an eye
+// ray itself, seen from the eye, is a point; with a lens it leaves from its own
+// point of the lens, and the line from there, cut at the camera plane, would only
+// fan across the picture), segments between later hits (cut at the camera plane),
+// dashed shadow rays to point lights (green lit, red blocked), and a ring at the
+// clicked pixel while the camera has not moved.
 function drawRays() {
   octx.clearRect(0, 0, overlay.width, overlay.height);
   const msg = lastTree;
@@ -426,22 +488,34 @@ function drawRays() {
     octx.stroke();
   };
   const far = len(sub(c.at, c.from)) * 1e3;
-  const walk = (node, colour) => {
+  const mark = (p, colour) => {
+    if (depth(p) < near) return;
+    const [x, y] = project(p);
+    octx.fillStyle = colour;
+    octx.beginPath();
+    octx.arc(x, y, Math.max(2, W / 200), 0, 2 * Math.PI);
+    octx.fill();
+  };
+  const walk = (node, colour, eye) => {
     const origin = vec(node.origin);
     const end = node.hit ? vec(node.hit.point) : add(origin, mul(vec(node.dir), far));
-    segment(origin, end, colour);
+    if (eye) {
+      if (node.hit) mark(end, colour);
+    } else {
+      segment(origin, end, colour);
+    }
     if (!node.hit) return;
     node.hit.lights.forEach((rec, k) => {
       const light = msg.trace.lights[k];
       if (rec.Point === undefined || rec.Point === 'Behind' || !light) return;
       segment(end, vec(light), rec.Point === 'Shadowed' ? '#ff8a80' : '#a5d6a7', [3, 3]);
     });
-    for (const [kind, , child] of node.hit.children) walk(child, kind === 'Refraction' ? '#e040fb' : '#4dd0e1');
+    for (const [kind, , child] of node.hit.children) walk(child, kind === 'Refraction' ? '#e040fb' : '#4dd0e1', false);
   };
   octx.lineWidth = Math.max(1.5, W / 400);
   for (const [sample, node] of msg.trace.samples) {
     const raster = sample.raster;
-    walk(node, '#ffd54f');
+    walk(node, '#ffd54f', true);
     if (!sameView) continue;
     octx.setLineDash([]);
     octx.strokeStyle = '#ffd54f';
