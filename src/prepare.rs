@@ -22,7 +22,7 @@
 use thiserror::Error;
 
 use crate::accel::Bvh;
-use crate::geometry::{build_geometry, Primitive};
+use crate::geometry::{build_geometry_for_shutter, Primitive};
 use crate::image::{Image, Region};
 use crate::load::Assets;
 use crate::render::{
@@ -47,17 +47,42 @@ pub struct RenderScene {
     accel: Bvh,
     lighting: Lighting,
     background: Background,
+    shutter: [f32; 2],
+    /// Moving geometry seen over a shutter that stays open for some time.
+    motion: bool,
 }
 
-/// Prepares `scene` with the files it names, `assets` (its skybox, if decoded).
+/// What a caller may choose of the render-time scene, replacing the file's settings.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PrepareOptions {
+    /// When the camera's shutter opens and closes (`[open, close]`, `open <= close`;
+    /// default: the file's `shutter`, else [`crate::limits::DEFAULT_SHUTTER`]).
+    /// Moving geometry is bounded over it.
+    pub shutter: Option<[f32; 2]>,
+}
+
+/// Prepares `scene` with the files it names, `assets` (its skybox, if decoded), as
+/// the file says.
 pub fn prepare(scene: Scene, assets: &Assets) -> RenderScene {
+    prepare_with(scene, assets, &PrepareOptions::default())
+}
+
+/// Prepares `scene` with the files it names, `assets`, and the choices of `opts`.
+pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> RenderScene {
     let info = scene.info();
-    let geometry = build_geometry(&scene);
+    let shutter = opts.shutter.unwrap_or(info.shutter);
+    let geometry = build_geometry_for_shutter(&scene, shutter);
     drop(scene);
+    let moving = info
+        .kind_counts
+        .iter()
+        .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
     RenderScene {
         lighting: Lighting::new(&info),
         background: Background::new(info.background, assets.skybox.clone()),
         accel: Bvh::new(geometry),
+        shutter,
+        motion: moving && shutter[1] > shutter[0],
         info,
     }
 }
@@ -71,6 +96,17 @@ impl RenderScene {
     /// The scene file's camera.
     pub fn view(&self) -> &View {
         &self.info.view
+    }
+
+    /// When the camera's shutter opens and closes.
+    pub fn shutter(&self) -> [f32; 2] {
+        self.shutter
+    }
+
+    /// True if some geometry moves while the shutter is open: eye samples then take
+    /// their times.
+    pub fn has_motion(&self) -> bool {
+        self.motion
     }
 
     /// The acceleration structure.

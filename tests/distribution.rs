@@ -44,7 +44,13 @@ fn lens_rays_meet_on_the_focal_plane_and_spread_by_the_circle_of_confusion_off_i
     for raster in [(50.0, 50.0), (13.5, 71.25), (99.0, 0.5)] {
         let rays: Vec<Ray> = lens
             .iter()
-            .map(|&l| camera.ray(&CameraSample { raster, lens: l }))
+            .map(|&l| {
+                camera.ray(&CameraSample {
+                    raster,
+                    lens: l,
+                    time: 0.5,
+                })
+            })
             .collect();
         // On the focal plane every lens ray of one raster position meets one point:
         // the pinhole ray's.

@@ -148,3 +148,27 @@ fn a_traced_pixel_is_the_rendered_pixel() {
         }
     }
 }
+
+#[test]
+fn a_seed_gives_another_pattern_as_deterministic_and_seed_zero_is_the_default() {
+    let scene = showcase();
+    let o = opts(Sampling::Stratified { spp: 4 });
+    let default = render_on(2, &scene, &o);
+    let zero = RenderOptions { seed: 0, ..o };
+    assert_eq!(render_on(1, &scene, &zero), default);
+    let seven = RenderOptions { seed: 7, ..o };
+    let a = render_on(1, &scene, &seven);
+    assert_eq!(render_on(2, &scene, &seven), a, "seed 7 on 1 and 2 threads");
+    assert_ne!(a, default);
+    // The same scene, independent noise: the two patterns differ on many pixels, not
+    // in the mean (both estimate the same picture).
+    let differing = a
+        .pixels
+        .iter()
+        .zip(&default.pixels)
+        .filter(|(p, q)| p != q)
+        .count();
+    assert!(differing > a.pixels.len() / 10, "{differing} pixels differ");
+    let mean = |i: &Image| i.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / i.pixels.len() as f32;
+    assert!((mean(&a) - mean(&default)).abs() < 0.01 * mean(&default));
+}

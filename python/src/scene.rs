@@ -174,34 +174,14 @@ impl PyScene {
         }
     }
 
-    /// The render settings the arguments ask for, as `nffrt render` reads its flags:
+    /// The render settings `request` asks for, as `nffrt render` reads its flags:
     /// the file's resolution and `spp` are the defaults.
-    #[allow(clippy::too_many_arguments)]
-    fn options(
-        &self,
-        width: Option<u32>,
-        height: Option<u32>,
-        spp: Option<u32>,
-        max_depth: u32,
-        spd: bool,
-        aperture: Option<f32>,
-        focal: Option<f32>,
-    ) -> PyResult<RenderOptions> {
-        if spd && spp.is_some() {
+    fn options(&self, request: &RenderRequest) -> PyResult<RenderOptions> {
+        if request.spd && request.spp.is_some() {
             return Err(value_error(
                 "spd=True has its own sampling: it cannot be combined with spp",
             ));
         }
-        let request = RenderRequest {
-            width,
-            height,
-            spp,
-            spd,
-            max_depth: Some(max_depth),
-            aperture,
-            focal,
-            ..RenderRequest::default()
-        };
         let resolved = request.resolve(self.info()).map_err(value_error)?;
         Ok(resolved.opts)
     }
@@ -249,9 +229,11 @@ impl PyScene {
     /// protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
     /// only that crop (half-open), with exactly the full render's pixels. `threads`
     /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`
-    /// (focal distance over |from - at|) replace the scene's lens. The GIL is
-    /// released while rendering; Ctrl-C stops the render with `KeyboardInterrupt`.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None))]
+    /// (focal distance over |from - at|) replace the scene's lens. `light_samples`
+    /// samples every area light on an N x N grid at every hit; `seed` chooses another
+    /// sample pattern (0: the usual one). The GIL is released while rendering;
+    /// Ctrl-C stops the render with `KeyboardInterrupt`.
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=0))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -265,8 +247,21 @@ impl PyScene {
         spd: bool,
         aperture: Option<f32>,
         focal: Option<f32>,
+        light_samples: Option<u32>,
+        seed: u32,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let opts = self.options(width, height, spp, max_depth, spd, aperture, focal)?;
+        let opts = self.options(&RenderRequest {
+            width,
+            height,
+            spp,
+            spd,
+            max_depth: Some(max_depth),
+            aperture,
+            focal,
+            light_samples,
+            seed: Some(seed),
+            ..RenderRequest::default()
+        })?;
         let image = self.render_image(py, &opts, region, threads)?;
         to_array(py, &image)
     }
@@ -432,7 +427,12 @@ impl PyScene {
         let (w, h) = (self.width(), self.height());
         let scale = (PREVIEW_SIDE as f64 / w.max(h) as f64).min(1.0);
         let side = |n: u32| ((n as f64 * scale).round() as u32).max(1);
-        let opts = self.options(Some(side(w)), Some(side(h)), Some(1), 5, false, None, None)?;
+        let opts = self.options(&RenderRequest {
+            width: Some(side(w)),
+            height: Some(side(h)),
+            spp: Some(1),
+            ..RenderRequest::default()
+        })?;
         let image = self.render_image(py, &opts, None, None)?;
         let png = encode(&image, ImageFormat::Png).map_err(value_error)?;
         Ok(PyBytes::new(py, &png))

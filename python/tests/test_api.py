@@ -298,3 +298,26 @@ def test_type_stubs_name_what_the_module_has() -> None:
     params = list(inspect.signature(_nffrt.Scene.render).parameters)
     stub_render = next(n for n in classes["Scene"].body if isinstance(n, ast.FunctionDef) and n.name == "render")
     assert params == [a.arg for a in stub_render.args.args]
+
+
+def test_light_samples_and_seed_are_the_command_lines() -> None:
+    import subprocess, tempfile, os
+    text = (
+        "spp 4\ncamera eye 0 -6 3 at 0 0 0.5 up 0 0 1 angle 40 hither 1 resolution 12 9\n"
+        "light quad -1 -1 4 1 1 1 1 -1 4 -1 1 4 2\n"
+        "mat 0.9 0.8 0.6 1 1 1 1 0 10 0 1\np 4 -10 -10 0 10 -10 0 10 10 0 -10 10 0\n"
+        "mat 0.8 0.2 0.2 0.8 1 1 1 0.2 40 0 1\ns 0 0 0.8 0.8\n"
+    )
+    scene = nffrt.parse(text, format="p3f")
+    base = scene.render()
+    assert scene.render(seed=0).tobytes() == base.tobytes()
+    seeded = scene.render(seed=3, light_samples=3)
+    assert seeded.tobytes() != base.tobytes()
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "s.p3f")
+        with open(path, "w") as f:
+            f.write(text)
+        out = os.path.join(d, "x.pfm")
+        binary = os.environ.get("NFFRT_BIN", "nffrt")
+        subprocess.run([binary, "render", path, "--seed", "3", "--light-samples", "3", "-q", "-o", out], check=True)
+        assert read_pfm(Path(out)).tobytes() == seeded.tobytes()

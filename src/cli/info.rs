@@ -269,7 +269,11 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         Some((lo, hi)) => outln!("bounds      {lo:?} .. {hi:?}"),
         None => outln!("bounds      (no bounded primitive)"),
     }
-    outln!("parse time  {:.1} ms", loaded.parse_s * 1e3);
+    outln!(
+        "load time   {:.1} ms parsing, {:.1} ms checking the files it names (headers only)",
+        loaded.parse_s * 1e3,
+        loaded.assets_s * 1e3
+    );
     outln!("warnings    {}", s.warnings.len());
     if let Some(b) = &bvh {
         print_bvh(b);

@@ -79,6 +79,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true,
           value_parser = whole_number::<u32>(1, MAX_LIGHT_SAMPLES as u64))]
     pub light_samples: Option<u32>,
+    /// The sample pattern, 0 to 4294967295: 0 (the default) gives nffrt's usual
+    /// pictures, any other number an unrelated pattern, as deterministic (average
+    /// renders of several seeds, or compare their noise).
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole_number::<u32>(0, u32::MAX as u64))]
+    pub seed: Option<u32>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;
     /// `nffrt merge` assembles tiles.
@@ -165,6 +171,7 @@ pub fn request(args: &RenderArgs) -> RenderRequest {
         focal: args.focal,
         light_samples: args.light_samples,
         hard_shadows: false,
+        seed: args.seed,
     }
 }
 

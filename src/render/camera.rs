@@ -19,26 +19,33 @@
 //! point and passes through the point of the focal plane that the pinhole ray of the
 //! same raster position meets, so every lens ray of one raster position meets there.
 
+use crate::limits::DEFAULT_SHUTTER;
 use crate::math::{safe_recip, Ray, Vec3};
 use crate::scene::{AngleSpan, View};
 
 use super::RenderOptions;
 
-/// Where an eye ray goes: a raster position and a position on the lens.
+/// Where and when an eye ray goes: a raster position, a position on the lens and a
+/// moment of the shutter.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct CameraSample {
     /// Raster position (pixel units, from the top-left corner).
     pub raster: (f32, f32),
     /// Lens position in `[0, 1)^2`, mapped to the lens disc (`(0.5, 0.5)` is its centre).
     pub lens: (f32, f32),
+    /// The moment as a fraction of the shutter's opening, in `[0, 1)` (`0.5` is its
+    /// middle).
+    pub time: f32,
 }
 
 impl CameraSample {
-    /// The sample at raster position `(x, y)` through the centre of the lens.
+    /// The sample at raster position `(x, y)` through the centre of the lens, at the
+    /// middle of the shutter's opening.
     pub fn at(x: f32, y: f32) -> CameraSample {
         CameraSample {
             raster: (x, y),
             lens: (0.5, 0.5),
+            time: 0.5,
         }
     }
 }
@@ -63,6 +70,9 @@ pub struct Camera {
     half_width: f32,
     half_height: f32,
     lens: Option<ThinLens>,
+    /// When the shutter opens and how long it stays open.
+    open: f32,
+    exposure: f32,
 }
 
 impl Camera {
@@ -95,7 +105,25 @@ impl Camera {
             half_width: width as f32 * 0.5,
             half_height: height as f32 * 0.5,
             lens,
+            open: DEFAULT_SHUTTER[0],
+            exposure: DEFAULT_SHUTTER[1] - DEFAULT_SHUTTER[0],
         }
+    }
+
+    /// The same camera with its shutter open from `shutter[0]` to `shutter[1]`
+    /// (scene time; `[0, 1]` by default).
+    pub fn with_shutter(self, shutter: [f32; 2]) -> Camera {
+        Camera {
+            open: shutter[0],
+            exposure: shutter[1] - shutter[0],
+            ..self
+        }
+    }
+
+    /// The scene time of the fraction `u` of the shutter's opening.
+    #[inline(always)]
+    pub fn time(&self, u: f32) -> f32 {
+        self.open + u * self.exposure
     }
 
     /// True if the camera has a lens of non-zero size (its rays depend on the lens
@@ -108,17 +136,19 @@ impl Camera {
     /// is the pinhole ray ([`Camera::ray_at`]).
     #[inline(always)]
     pub fn ray(&self, s: &CameraSample) -> Ray {
-        match &self.lens {
+        let mut ray = match &self.lens {
             Some(lens) if s.lens != (0.5, 0.5) => self.lens_ray(lens, s),
             _ => self.ray_at(s.raster.0, s.raster.1),
-        }
+        };
+        ray.time = self.time(s.time);
+        ray
     }
 
     /// The pinhole ray through raster position `(x, y)`, which is also the ray through
-    /// the centre of the lens.
+    /// the centre of the lens, at the middle of the shutter's opening.
     #[inline(always)]
     pub fn ray_at(&self, x: f32, y: f32) -> Ray {
-        Ray::new(self.origin, self.through(x, y).normalize())
+        Ray::with_time(self.origin, self.through(x, y).normalize(), self.time(0.5))
     }
 
     /// The direction of the pinhole ray through raster `(x, y)`, scaled so its forward
@@ -155,7 +185,7 @@ impl Camera {
     pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Ray>) {
         out.clear();
         let Some(lens) = &self.lens else {
-            out.extend(samples.iter().map(|s| self.ray_at(s.raster.0, s.raster.1)));
+            out.extend(samples.iter().map(|s| self.ray(s)));
             return;
         };
         for block in samples.chunks(LANES) {
@@ -171,7 +201,7 @@ impl Camera {
                 let start = if centre { self.origin } else { lens_start };
                 let pinhole = self.through(s.raster.0, s.raster.1);
                 let dir = if centre { pinhole } else { towards }.normalize();
-                rays.set(i, start, dir);
+                rays.set(i, start, dir, self.time(s.time));
             }
             out.extend((0..block.len()).map(|i| rays.ray(i)));
         }
@@ -184,11 +214,13 @@ struct LaneRays {
     origin: [[f32; LANES]; 3],
     dir: [[f32; LANES]; 3],
     inv_dir: [[f32; LANES]; 3],
+    time: [f32; LANES],
 }
 
 impl LaneRays {
     #[inline(always)]
-    fn set(&mut self, i: usize, origin: Vec3, dir: Vec3) {
+    fn set(&mut self, i: usize, origin: Vec3, dir: Vec3, time: f32) {
+        self.time[i] = time;
         for (k, (o, d)) in [(origin.x, dir.x), (origin.y, dir.y), (origin.z, dir.z)]
             .into_iter()
             .enumerate()
@@ -206,7 +238,7 @@ impl LaneRays {
             origin: v(&self.origin),
             dir: v(&self.dir),
             inv_dir: v(&self.inv_dir),
-            time: 0.0,
+            time: self.time[i],
         }
     }
 }
@@ -315,10 +347,13 @@ mod tests {
             focal: 0.7,
             ..view()
         };
-        let bits = |r: &Ray| [r.origin, r.dir, r.inv_dir].map(|v| [v.x, v.y, v.z].map(f32::to_bits));
+        let bits = |r: &Ray| {
+            let v = [r.origin, r.dir, r.inv_dir].map(|v| [v.x, v.y, v.z].map(f32::to_bits));
+            (v, r.time.to_bits())
+        };
         let mut rays = Vec::new();
         for v in [view(), lens] {
-            let c = camera(&v, 7, 5);
+            let c = camera(&v, 7, 5).with_shutter([0.25, 2.0]);
             // 13 samples: a full block of eight and a partial one; lens points at the
             // centre (the pinhole ray), the square's corners and edges, and between.
             let lens_points = [0.0, 0.25, 0.5, 0.75, 0.999_999_94];
@@ -326,6 +361,7 @@ mod tests {
                 .map(|i| CameraSample {
                     raster: (i as f32 * 0.53, 4.9 - i as f32 * 0.37),
                     lens: (lens_points[i % 5], lens_points[(i + i / 5) % 5]),
+                    time: i as f32 / 13.0,
                 })
                 .collect();
             c.rays(&samples, &mut rays);

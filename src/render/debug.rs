@@ -31,6 +31,11 @@ pub struct RayNode {
     pub color: Vec3,
     /// For a miss under a skybox, the face and texel it saw.
     pub sky: Option<SkyTexel>,
+    /// The moment the ray sees the scene at.
+    pub time: f32,
+    /// For a ray from a rough surface, the direction a smooth one would have given
+    /// it (its own was drawn about a microfacet normal).
+    pub smooth_dir: Option<Vec3>,
 }
 
 /// A surface hit of a [`RayNode`].
@@ -56,6 +61,9 @@ pub struct HitNode {
     pub entering: bool,
     /// The ambient term.
     pub ambient: Vec3,
+    /// For a ray inside absorbing glass, the fraction of light left after its way
+    /// to this hit (Beer-Lambert).
+    pub absorbed: Option<Vec3>,
     /// Each light's outcome, in file order.
     pub lights: Vec<LightRecord>,
     /// Secondary rays: kind, weight and the subtree.
@@ -89,6 +97,8 @@ pub struct PixelTrace {
     pub samples: Vec<(CameraSample, RayNode)>,
     /// True if the camera has a lens (the lens positions are printed).
     pub lens: bool,
+    /// True if geometry moves while the shutter is open (the times are printed).
+    pub motion: bool,
     /// The pixel's linear value, identical to the rendered one.
     pub value: Vec3,
     /// Ray counts of this pixel.
@@ -99,20 +109,25 @@ pub struct PixelTrace {
     pub dialect: Dialect,
 }
 
+/// A secondary ray announced by `branch`: its kind, weight and, from a rough
+/// surface, the direction a smooth one would have given it.
+type Pending = (Branch, Vec3, Option<Vec3>);
+
 /// Builds the tree from the recursion's events.
 struct TreeRecorder<'a> {
     materials: &'a [Material],
-    open: Vec<(Option<(Branch, Vec3)>, RayNode)>,
-    pending: Option<(Branch, Vec3)>,
+    open: Vec<(Option<Pending>, RayNode)>,
+    pending: Option<Pending>,
     /// Points of the area light being sampled.
     points: Vec<(Vec3, LightOutcome)>,
     root: Option<RayNode>,
 }
 
 impl TreeRecorder<'_> {
-    fn attach(&mut self, branch: Option<(Branch, Vec3)>, node: RayNode) {
+    fn attach(&mut self, branch: Option<Pending>, mut node: RayNode) {
         match (self.open.last_mut(), branch) {
-            (Some((_, parent)), Some((kind, w))) => {
+            (Some((_, parent)), Some((kind, w, smooth))) => {
+                node.smooth_dir = smooth;
                 parent
                     .hit
                     .as_mut()
@@ -137,6 +152,8 @@ impl Recorder for TreeRecorder<'_> {
     fn miss(&mut self, ray: &Ray, background: Vec3, texel: Option<SkyTexel>) {
         let node = RayNode {
             sky: texel,
+            time: ray.time,
+            smooth_dir: None,
             origin: ray.origin,
             dir: ray.dir,
             hit: None,
@@ -150,6 +167,8 @@ impl Recorder for TreeRecorder<'_> {
         let m = h.primitive.material;
         let node = RayNode {
             sky: None,
+            time: ray.time,
+            smooth_dir: None,
             origin: ray.origin,
             dir: ray.dir,
             hit: Some(HitNode {
@@ -163,6 +182,7 @@ impl Recorder for TreeRecorder<'_> {
                 shading_normal: h.shading_normal,
                 entering: h.entering,
                 ambient: h.ambient,
+                absorbed: h.absorbed,
                 lights: Vec::new(),
                 children: Vec::new(),
             }),
@@ -185,8 +205,8 @@ impl Recorder for TreeRecorder<'_> {
         self.push_light(LightRecord::Area { points, outcome });
     }
 
-    fn branch(&mut self, kind: Branch, weight: Vec3) {
-        self.pending = Some((kind, weight));
+    fn branch(&mut self, kind: Branch, weight: Vec3, smooth: Option<Vec3>) {
+        self.pending = Some((kind, weight, smooth));
     }
 
     fn done(&mut self, color: Vec3) {
@@ -241,6 +261,7 @@ pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u3
         opts: *opts,
         samples,
         lens: frame.camera().has_lens(),
+        motion: scene.has_motion(),
         value,
         stats: ctx.stats,
         lights: scene.info().lights.iter().map(|l| l.position).collect(),
@@ -331,6 +352,14 @@ impl PixelTrace {
             h.line,
             h.t
         )?;
+        if let Some(left) = h.absorbed {
+            writeln!(
+                f,
+                "{pad}  inside glass for {:.4}: {} of the light left (Beer-Lambert)",
+                h.t,
+                V(left)
+            )?;
+        }
         writeln!(f, "{pad}  point {}  normal {}", V(h.point), V(h.normal))?;
         if h.shading_normal != h.normal {
             writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
@@ -341,9 +370,16 @@ impl PixelTrace {
         } else {
             String::new()
         };
+        let mut extra = String::new();
+        if m.roughness > 0.0 {
+            extra += &format!(" roughness {}", m.roughness);
+        }
+        if m.emission != Vec3::ZERO {
+            extra += &format!(" emission {}", V(m.emission));
+        }
         writeln!(
             f,
-            "{pad}  material #{mi}: colour {} Kd {}{specular} Ks {} shine {} T {} ior {}",
+            "{pad}  material #{mi}: colour {} Kd {}{specular} Ks {} shine {} T {} ior {}{extra}",
             V(m.color),
             m.kd,
             m.ks,
@@ -361,9 +397,9 @@ impl PixelTrace {
                 LightRecord::Area { points, outcome } => {
                     writeln!(
                         f,
-                        "{pad}  area light {} at {at}: {} points, {} lit, {} shadowed, {} behind: adds {}",
+                        "{pad}  area light {} at {at}: {}, {} lit, {} shadowed, {} behind: adds {}",
                         k + 1,
-                        outcome.samples,
+                        crate::words::count(outcome.samples, "point", "points"),
                         outcome.samples - outcome.shadowed - outcome.behind,
                         outcome.shadowed,
                         outcome.behind,
@@ -385,6 +421,14 @@ impl PixelTrace {
                 Branch::Refraction => "refraction",
             };
             writeln!(f, "{pad}  {name}, weight {}:", Weight(*w))?;
+            if let Some(smooth) = child.smooth_dir {
+                let angle = smooth.dot(child.dir).clamp(-1.0, 1.0).acos().to_degrees();
+                writeln!(
+                    f,
+                    "{pad}    rough: drawn {angle:.2} degrees from the smooth direction {}",
+                    V(smooth)
+                )?;
+            }
             self.write_node(f, child, indent + 2)?;
         }
         writeln!(f, "{pad}  = colour {}", V(node.color))
@@ -401,16 +445,22 @@ impl fmt::Display for PixelTrace {
         let n = self.samples.len();
         for (k, (sample, node)) in self.samples.iter().enumerate() {
             let (px, py) = sample.raster;
-            if self.lens {
+            let lens = if self.lens {
                 let (u, v) = sample.lens;
-                writeln!(
-                    f,
-                    "eye ray {} of {n} through raster ({px}, {py}), lens ({u}, {v}):",
-                    k + 1
-                )?;
+                format!(", lens ({u}, {v})")
             } else {
-                writeln!(f, "eye ray {} of {n} through raster ({px}, {py}):", k + 1)?;
-            }
+                String::new()
+            };
+            let time = if self.motion {
+                format!(", time {} ({} of the shutter)", node.time, sample.time)
+            } else {
+                String::new()
+            };
+            writeln!(
+                f,
+                "eye ray {} of {n} through raster ({px}, {py}){lens}{time}:",
+                k + 1
+            )?;
             self.write_node(f, node, 1)?;
         }
         let v = self.value;

@@ -140,6 +140,11 @@ pub struct HitRecord<'a> {
     pub entering: bool,
     /// The ambient term `A * Kd * C`.
     pub ambient: Vec3,
+    /// For a ray inside absorbing glass, the fraction of light left after its way
+    /// there (Beer-Lambert), which its colour is multiplied by.
+    pub absorbed: Option<Vec3>,
+    /// The moment the ray sees the scene at.
+    pub time: f32,
 }
 
 /// What became of one point of a light at a hit (the whole of a point light).
@@ -184,8 +189,9 @@ pub trait Recorder {
     fn light_sample(&mut self, _index: usize, _point: Vec3, _outcome: LightOutcome) {}
     /// Area light `index` at the current hit, after its points.
     fn area_light(&mut self, _index: usize, _outcome: AreaOutcome) {}
-    /// A secondary ray with this weight is about to be traced.
-    fn branch(&mut self, _kind: Branch, _weight: Vec3) {}
+    /// A secondary ray with this weight is about to be traced; on a rough surface,
+    /// with the direction a smooth one would have given it.
+    fn branch(&mut self, _kind: Branch, _weight: Vec3, _smooth: Option<Vec3>) {}
     /// The current hit's final colour.
     fn done(&mut self, _color: Vec3) {}
 }

@@ -18,6 +18,8 @@ mod camera;
 pub mod debug;
 pub mod integrator;
 mod light;
+pub mod microfacet;
+pub mod optics;
 mod progressive;
 pub mod request;
 mod rows;
@@ -30,11 +32,12 @@ pub use background::Background;
 pub use camera::{Camera, CameraSample};
 pub use integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext};
 pub use light::{LightQuad, LightSampling, LightSource};
+pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
 pub use request::{image_size, RenderRequest, Resolved};
 pub use rows::Frame;
 pub use sampling::{permute, sample_2d, Dim, PixelSampler, PixelSeeds, SampleId, Sampling, Strata};
-pub use shade::{schlick, Branch, Lighting, Model, P3fRules, Rules, SpdRules};
+pub use shade::{Branch, Facets, Lighting, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 
 use rayon::prelude::*;
@@ -68,6 +71,9 @@ pub struct RenderOptions {
     pub light_samples: Option<u32>,
     /// False: each area light shines from its centre alone (hard shadows).
     pub soft_shadows: bool,
+    /// The sample pattern: 0 is nffrt's first, any other an unrelated one, as
+    /// deterministic (independent renders to average, or to compare noise with).
+    pub seed: u32,
 }
 
 impl Default for RenderOptions {
@@ -82,6 +88,7 @@ impl Default for RenderOptions {
             focal: None,
             light_samples: None,
             soft_shadows: true,
+            seed: 0,
         }
     }
 }

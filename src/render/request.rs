@@ -31,6 +31,8 @@ pub struct RenderRequest {
     pub light_samples: Option<u32>,
     /// Each area light shines from its centre alone (the viewer's toggle).
     pub hard_shadows: bool,
+    /// The sample pattern ([`RenderOptions::seed`]; default 0).
+    pub seed: Option<u32>,
 }
 
 /// A request resolved: the options, and what the caller should be told about how
@@ -59,6 +61,7 @@ impl RenderRequest {
             focal: self.focal,
             light_samples: self.light_samples,
             soft_shadows: !self.hard_shadows,
+            seed: self.seed.unwrap_or(0),
         };
         check_settings(&opts)?;
         Ok(Resolved { opts, notes })
@@ -102,10 +105,27 @@ impl RenderRequest {
     }
 
     /// The first effect of the render that one centred sample per pixel would drop,
-    /// named for a note: the lens.
+    /// named for a note: the lens, motion while the shutter is open, rough mirrors
+    /// or glass.
     fn effect_needing_samples(&self, scene: &SceneInfo) -> Option<&'static str> {
         let aperture = self.aperture.unwrap_or(scene.view.aperture);
-        (aperture > 0.0).then_some("the lens (depth of field)")
+        let moving = scene
+            .kind_counts
+            .iter()
+            .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
+        let rough = scene
+            .materials
+            .iter()
+            .any(|m| m.roughness > 0.0 && (m.ks > 0.0 || m.t > 0.0));
+        if aperture > 0.0 {
+            Some("the lens (depth of field)")
+        } else if moving && scene.shutter[1] > scene.shutter[0] {
+            Some("motion (moving spheres)")
+        } else if rough && scene.dialect.is_p3f() {
+            Some("roughness (fuzzy reflection or rough refraction)")
+        } else {
+            None
+        }
     }
 }
 

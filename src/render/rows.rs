@@ -35,11 +35,11 @@ pub struct Frame<'a> {
 impl<'a> Frame<'a> {
     /// The frame of a render of `scene` seen by `view` with `opts`.
     pub fn new(scene: &'a RenderScene, view: &View, opts: &RenderOptions) -> Self {
-        let camera = Camera::new(view, opts);
-        // One centred sample per pixel goes through the centre of the lens.
-        let lens = camera.has_lens() && opts.sampling != super::Sampling::PixelCenters;
+        let camera = Camera::new(view, opts).with_shutter(scene.shutter());
         Frame {
-            sampler: opts.sampling.pixel_sampler(lens),
+            sampler: opts
+                .sampling
+                .pixel_sampler(camera.has_lens(), scene.has_motion(), opts.seed),
             camera,
             scene,
             integrator: ChosenIntegrator::new(scene, opts),
@@ -49,7 +49,7 @@ impl<'a> Frame<'a> {
     /// The same frame with the centre sample of each pixel through the centre of the
     /// lens (a preview).
     pub fn centres(mut self) -> Self {
-        self.sampler = super::Sampling::PixelCenters.pixel_sampler(false);
+        self.sampler = super::Sampling::PixelCenters.pixel_sampler(false, false, 0);
         self
     }
 

@@ -34,7 +34,9 @@ pub enum Sampling {
     /// ((w+1) x (h+1) rays), the four corner values averaged into each pixel.
     SpdCorners,
     /// Stratified jittered supersampling with `spp` samples per pixel, box-filtered
-    /// (see the module docs); `spp = 1` is [`Sampling::PixelCenters`].
+    /// (see the module docs). `spp = 1` is one sample at the pixel centre whose
+    /// other dimensions (lens, time, rough directions) are jittered: what an explicit
+    /// single sample of a scene with such effects takes.
     Stratified {
         /// Samples per pixel, at least 1.
         spp: u32,
@@ -49,15 +51,19 @@ pub enum Sampling {
 
 impl Sampling {
     /// The sampler of one pixel's samples in a render (not for
-    /// [`Sampling::SpdCorners`], whose rays go through pixel corners); `lens` says
-    /// whether the camera has a lens whose position must be sampled.
-    pub fn pixel_sampler(&self, lens: bool) -> PixelSampler {
+    /// [`Sampling::SpdCorners`], whose rays go through pixel corners); `lens` and
+    /// `motion` say whether the lens position and the time must be sampled, `seed`
+    /// chooses the pattern (0: the pattern of nffrt's first pictures).
+    pub fn pixel_sampler(&self, lens: bool, motion: bool, seed: u32) -> PixelSampler {
         let count = self.samples_per_pixel();
         PixelSampler {
             strata: Strata::new(count),
             count,
             stratified: !matches!(self, Sampling::Independent { .. }),
+            jittered: !matches!(self, Sampling::PixelCenters | Sampling::SpdCorners),
             lens,
+            motion,
+            seed: seed_offset(seed),
         }
     }
 
@@ -116,7 +122,7 @@ impl Strata {
     /// centre for a single sample, otherwise a hashed point in stratum `s` (row-major).
     #[inline]
     pub fn position(&self, x: u32, y: u32, s: u32) -> (f32, f32) {
-        self.position_hashed(x, y, pixel_hash(x, y), s)
+        self.position_hashed(x, y, pixel_hash(pixel_key(x, y)), s)
     }
 
     /// [`Strata::position`] with the pixel's [`pixel_hash`] worked out already.
@@ -147,7 +153,12 @@ pub struct PixelSampler {
     strata: Strata,
     count: u32,
     stratified: bool,
+    /// False for one fixed sample per pixel: every dimension at its centre.
+    jittered: bool,
     lens: bool,
+    motion: bool,
+    /// The pattern's seed as it is mixed into pixel keys ([`seed_offset`]).
+    seed: u64,
 }
 
 impl PixelSampler {
@@ -167,12 +178,14 @@ impl PixelSampler {
     /// them out once.
     #[inline(always)]
     pub fn pixel(&self, x: u32, y: u32) -> PixelSeeds {
+        let key = pixel_key(x, y) ^ self.seed;
         PixelSeeds {
             x,
             y,
-            hash: pixel_hash(x, y),
+            key,
+            hash: pixel_hash(key),
             lens_seed: if self.lens {
-                permutation_seed(x, y, Dim::Lens)
+                permutation_seed(key, Dim::Lens)
             } else {
                 0
             },
@@ -183,13 +196,13 @@ impl PixelSampler {
     /// [`PixelSampler::sample`] of its coordinates.
     #[inline(always)]
     pub fn sample_of(&self, pixel: &PixelSeeds, index: u32) -> (CameraSample, SampleId) {
-        let &PixelSeeds { x, y, hash, .. } = pixel;
+        let &PixelSeeds { x, y, key, hash, .. } = pixel;
         let id = SampleId {
-            x,
-            y,
+            key,
             index,
             count: self.count,
             stratified: self.stratified,
+            jittered: self.jittered,
             strata: self.strata,
             hash,
         };
@@ -199,12 +212,13 @@ impl PixelSampler {
             let (u, v) = hashed_2d(hash, index, Dim::Pixel);
             (x as f32 + u, y as f32 + v)
         };
-        let lens = if self.lens {
+        let lens = if self.lens && self.jittered {
             id.point_seeded(Dim::Lens, pixel.lens_seed)
         } else {
             (0.5, 0.5)
         };
-        (CameraSample { raster, lens }, id)
+        let time = if self.motion { id.value(Dim::Time) } else { 0.5 };
+        (CameraSample { raster, lens, time }, id)
     }
 }
 
@@ -213,7 +227,9 @@ impl PixelSampler {
 pub struct PixelSeeds {
     x: u32,
     y: u32,
-    /// [`pixel_hash`] of `(x, y)`.
+    /// The pixel's key, with the pattern's seed ([`pixel_key`]).
+    key: u64,
+    /// [`pixel_hash`] of `key`.
     hash: u64,
     /// The lens dimension's [`permutation_seed`] (0 without a lens).
     lens_seed: u32,
@@ -233,16 +249,32 @@ pub enum Dim {
         /// The ray-tree depth of the hit (the eye ray's hit is 1).
         depth: u32,
     },
+    /// The time within the shutter.
+    Time,
+    /// The microfacet normal of a rough reflection at a hit of ray-tree depth `depth`.
+    Reflection {
+        /// The ray-tree depth of the hit.
+        depth: u32,
+    },
+    /// The microfacet normal of a rough refraction at a hit of ray-tree depth `depth`.
+    Refraction {
+        /// The ray-tree depth of the hit.
+        depth: u32,
+    },
 }
 
 impl Dim {
     /// A distinct number per dimension (the pixel's is 0, which keeps the pixel
-    /// positions of the sampler before dimensions existed).
+    /// positions of the sampler before dimensions existed; lights' stay below 2^40,
+    /// the later dimensions take the top bits).
     fn key(self) -> u64 {
         match self {
             Dim::Pixel => 0,
             Dim::Lens => 1,
             Dim::Light { light, depth } => 2 + ((light as u64) << 8) + depth.min(255) as u64,
+            Dim::Time => 1 << 60,
+            Dim::Reflection { depth } => (2 << 60) + depth as u64,
+            Dim::Refraction { depth } => (3 << 60) + depth as u64,
         }
     }
 }
@@ -251,16 +283,17 @@ impl Dim {
 /// samples, from which every later random choice of the tree is hashed.
 #[derive(Clone, Copy, Debug)]
 pub struct SampleId {
-    /// Pixel column (absolute, in the full image).
-    x: u32,
-    /// Pixel row (absolute).
-    y: u32,
+    /// The pixel's key: its absolute coordinates and the pattern's seed
+    /// ([`pixel_key`]).
+    key: u64,
     /// Index of this sample among the pixel's.
     index: u32,
-    /// The pixel's number of samples (1: a single, centred sample).
+    /// The pixel's number of samples.
     count: u32,
     /// False for [`Sampling::Independent`]: no strata, every number independent.
     stratified: bool,
+    /// False for one fixed sample per pixel: every dimension at its centre.
+    jittered: bool,
     /// The strata of `count` samples ([`Strata::new`]`(count)`), worked out once per
     /// render.
     strata: Strata,
@@ -276,26 +309,28 @@ impl SampleId {
         if count <= 1 {
             return SampleId::single(x, y);
         }
+        let key = pixel_key(x, y);
         SampleId {
-            x,
-            y,
+            key,
             index,
             count,
             stratified,
+            jittered: true,
             strata: Strata::new(count),
-            hash: pixel_hash(x, y),
+            hash: pixel_hash(key),
         }
     }
 
-    /// The single sample of pixel `(x, y)` (centres, SPD corners, `--pixel` probes).
+    /// The single fixed sample of pixel `(x, y)` (centres, SPD corners, `--pixel`
+    /// probes): every dimension at its centre.
     #[inline]
     pub fn single(x: u32, y: u32) -> SampleId {
         SampleId {
-            x,
-            y,
+            key: pixel_key(x, y),
             index: 0,
             count: 1,
             stratified: true,
+            jittered: false,
             strata: Strata { cols: 1, rows: 1 },
             hash: 0,
         }
@@ -306,21 +341,46 @@ impl SampleId {
         self.index
     }
 
-    /// The pixel's number of samples (1: a single, centred sample).
+    /// The pixel's number of samples.
     pub fn count(&self) -> u32 {
         self.count
     }
 
-    /// A point of the unit square for dimension `dim`: with one sample per pixel its
+    /// False for one fixed sample per pixel ([`SampleId::single`], pixel centres):
+    /// its every dimension is at the centre, so effects that need samples (a rough
+    /// direction, say) take their centre too.
+    pub fn is_jittered(&self) -> bool {
+        self.jittered
+    }
+
+    /// A point of the unit square for dimension `dim`: for one fixed sample its
     /// centre; otherwise, stratified, a jittered point of stratum `π(index)` of the
     /// pixel's `count` strata ([`Strata::new`]'s grid), `π` a permutation hashed per
     /// pixel and dimension; independent, a uniform point.
     #[inline]
     pub fn point(&self, dim: Dim) -> (f32, f32) {
-        if self.count <= 1 {
+        if !self.jittered {
             return (0.5, 0.5);
         }
-        self.point_seeded(dim, permutation_seed(self.x, self.y, dim))
+        self.point_seeded(dim, permutation_seed(self.key, dim))
+    }
+
+    /// A number in [0, 1) for the one-dimensional `dim`: for one fixed sample 1/2;
+    /// otherwise, stratified, a jittered point of stratum `π(index)` of `count` equal
+    /// intervals, `π` a permutation hashed per pixel and dimension; independent, a
+    /// uniform number.
+    #[inline]
+    pub fn value(&self, dim: Dim) -> f32 {
+        if !self.jittered {
+            return 0.5;
+        }
+        let (offset, _) = hashed_2d(self.hash, self.index, dim);
+        if !self.stratified {
+            return offset;
+        }
+        let stratum = permute(self.index, self.count, permutation_seed(self.key, dim));
+        // Below 1 even when the float sum rounds up to `count`.
+        ((stratum as f32 + offset) / self.count as f32).min(ONE_BELOW)
     }
 
     /// [`sample_2d`] of this sample's pixel for number `s` (not necessarily the
@@ -343,10 +403,26 @@ impl SampleId {
     }
 }
 
-/// The seed of the permutation of pixel `(x, y)`'s strata in dimension `dim`.
+/// The largest `f32` below 1.
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// The seed of the permutation of the strata of the pixel of key `key` in
+/// dimension `dim`.
 #[inline]
-fn permutation_seed(x: u32, y: u32, dim: Dim) -> u32 {
-    mix(pixel_key(x, y) ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407)) as u32
+fn permutation_seed(key: u64, dim: Dim) -> u32 {
+    mix(key ^ dim.key().wrapping_mul(0xA24B_AED4_963E_E407)) as u32
+}
+
+/// What a pattern's seed mixes into every pixel key: nothing for seed 0 (the
+/// pattern of nffrt's first pictures), a hash of the seed otherwise, so that two
+/// seeds give unrelated patterns.
+#[inline]
+fn seed_offset(seed: u32) -> u64 {
+    if seed == 0 {
+        0
+    } else {
+        mix(seed as u64 ^ 0x5EED_0000_0000_0000)
+    }
 }
 
 /// SplitMix64's output function (Steele, Lea and Flood 2014): a bijective 64-bit mix.
@@ -368,13 +444,13 @@ fn pixel_key(x: u32, y: u32) -> u64 {
 /// 24 bits each.
 #[inline]
 pub fn sample_2d(x: u32, y: u32, s: u32, dim: Dim) -> (f32, f32) {
-    hashed_2d(pixel_hash(x, y), s, dim)
+    hashed_2d(pixel_hash(pixel_key(x, y)), s, dim)
 }
 
-/// The hash of pixel `(x, y)` that [`sample_2d`] starts from.
+/// The hash of the pixel of key `key` that [`sample_2d`] starts from.
 #[inline]
-fn pixel_hash(x: u32, y: u32) -> u64 {
-    mix(pixel_key(x, y))
+fn pixel_hash(key: u64) -> u64 {
+    mix(key)
 }
 
 /// [`sample_2d`] with the pixel's [`pixel_hash`] worked out already.

@@ -34,14 +34,21 @@
 //! `2025/balls_low.p3f`, and the clamp takes the mean difference from the course's
 //! Whitted picture from 3.53/2.84/4.15 to 2.25/1.90/4.13 levels of 255. An opaque surface (`T = 0`) with `Ks > 0` spawns a mirror
 //! ray of weight `Ks * S`. A transmissive one (`T > 0`) spawns a mirror ray of weight
-//! `R * S` and a refracted ray of weight `(1 - R) * T * C` — the diffuse colour
-//! absorbs, as the course's glass does — where `R` is Schlick's approximation of the
-//! Fresnel reflectance (see [`schlick`]), 1 under total internal reflection.
+//! `R * S` and a refracted ray of weight `(1 - R) * T`, where `R` is Schlick's
+//! approximation of the Fresnel reflectance ([`schlick`]), 1 under total internal
+//! reflection. Inside, the glass absorbs by Beer-Lambert with the coefficient
+//! `1 - C` per unit length (its diffuse colour `C`, as the course's glass "uses the
+//! diffuse colour for the absorption"): a ray that travels `d` inside brings back
+//! `exp(-(1 - C) d)` of what it meets. A rough surface (`roughness` above 0) reflects
+//! and refracts about microfacet normals drawn per ray ([`Facets`],
+//! [`super::microfacet`]); a direction that would leave on the wrong side of the
+//! surface is mirrored across it.
 
 use crate::math::Vec3;
 use crate::scene::{Dialect, Material, SceneInfo};
 
 use super::light::LightSource;
+use super::optics::{reflect, refract, schlick};
 
 /// The kind of a secondary ray.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -116,21 +123,43 @@ pub fn local<M: Rules>(m: &Material, diffuse: Vec3, ns: Vec3, l: Vec3, view: Vec
 }
 
 /// The secondary rays of a hit: the refracted ray's direction and weight, and the
-/// mirror ray's kind and weight.
+/// mirror ray's kind, weight and direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Secondary {
     /// Direction and weight of the refracted ray.
     pub refraction: Option<(Vec3, Vec3)>,
-    /// Kind and weight of the mirror ray.
-    pub reflection: Option<(Branch, Vec3)>,
+    /// Kind, weight and direction of the mirror ray.
+    pub reflection: Option<(Branch, Vec3, Vec3)>,
+}
+
+/// The surface normals a hit's secondary rays leave about: the facing normal itself
+/// on a smooth surface; on a rough one, a microfacet normal drawn for each ray
+/// ([`super::microfacet`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Facets {
+    /// The normal the mirror ray reflects about.
+    pub reflection: Vec3,
+    /// The normal the refracted ray refracts through.
+    pub refraction: Vec3,
+}
+
+impl Facets {
+    /// A smooth surface of facing normal `n`.
+    pub fn smooth(n: Vec3) -> Facets {
+        Facets {
+            reflection: n,
+            refraction: n,
+        }
+    }
 }
 
 /// The rules of one model for the secondary rays of a hit: a type per model, so the
 /// recursion is compiled once per model and pays for no choice at every hit.
 pub trait Rules {
     /// The secondary rays of a hit on `m` by unit direction `d`, with unit normal
-    /// `n` facing the ray; `entering` says whether the ray crosses into the object.
-    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary;
+    /// `n` facing the ray, leaving about `facets`; `entering` says whether the ray
+    /// crosses into the object.
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, facets: &Facets) -> Secondary;
 
     /// The cosine whose power `shine` is the highlight of a light in unit direction
     /// `l` seen from unit direction `view` on the unit shading normal `ns` (see the
@@ -140,6 +169,13 @@ pub trait Rules {
     /// The colour a secondary ray returns to the hit that spawned it, given the
     /// colour at its end (see the module docs).
     fn returned(color: Vec3) -> Vec3;
+
+    /// The absorption coefficient per unit length inside a transmissive `m`, if it
+    /// absorbs (see the module docs).
+    fn absorption(m: &Material) -> Option<Vec3>;
+
+    /// True if the rules draw rough directions for `m` (its roughness above 0).
+    fn is_rough(m: &Material) -> bool;
 }
 
 /// [`Model::Spd`]'s rules.
@@ -160,6 +196,20 @@ fn indices(m: &Material, entering: bool) -> (f32, f32) {
     }
 }
 
+/// `dir` on the side of the unit normal `n` that `above` says (`dir.n > 0` above,
+/// `< 0` below): as it is when it already is, else mirrored across the surface. A
+/// direction drawn about a microfacet normal can point to the wrong side of the
+/// surface itself; folding it back keeps it near the facet's direction.
+#[inline(always)]
+fn on_side(dir: Vec3, n: Vec3, above: bool) -> Vec3 {
+    let c = dir.dot(n);
+    if (c > 0.0) == above {
+        dir
+    } else {
+        dir - n * (2.0 * c)
+    }
+}
+
 impl Rules for SpdRules {
     /// Blinn-Phong: `ns.h`, `h` the half vector.
     #[inline(always)]
@@ -173,8 +223,20 @@ impl Rules for SpdRules {
         color
     }
 
+    /// None: the SPD's rules weight the refracted ray by `T` alone.
     #[inline(always)]
-    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+    fn absorption(_: &Material) -> Option<Vec3> {
+        None
+    }
+
+    /// Never: NFF has no roughness.
+    #[inline(always)]
+    fn is_rough(_: &Material) -> bool {
+        false
+    }
+
+    #[inline(always)]
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, _: &Facets) -> Secondary {
         if m.ks <= 0.0 && m.t <= 0.0 {
             return Secondary {
                 refraction: None,
@@ -197,7 +259,7 @@ impl Rules for SpdRules {
         }
         Secondary {
             refraction,
-            reflection: Some((kind, Vec3::splat(weight))),
+            reflection: Some((kind, Vec3::splat(weight), reflect(d, n))),
         }
     }
 }
@@ -215,73 +277,57 @@ impl Rules for P3fRules {
         color.min(Vec3::ONE)
     }
 
+    /// `1 - C` (at least 0) for a transmissive material with a colour other than
+    /// white: Beer-Lambert absorption inside.
     #[inline(always)]
-    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+    fn absorption(m: &Material) -> Option<Vec3> {
+        let sigma = (Vec3::ONE - m.color).max(Vec3::ZERO);
+        (m.t > 0.0 && sigma != Vec3::ZERO).then_some(sigma)
+    }
+
+    #[inline(always)]
+    fn is_rough(m: &Material) -> bool {
+        m.roughness > 0.0 && (m.ks > 0.0 || m.t > 0.0)
+    }
+
+    #[inline(always)]
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, facets: &Facets) -> Secondary {
+        let mirror = |about: Vec3| on_side(reflect(d, about), n, true);
         if m.t <= 0.0 {
             return Secondary {
                 refraction: None,
-                reflection: (m.ks > 0.0).then_some((Branch::Reflection, m.specular * m.ks)),
+                reflection: (m.ks > 0.0)
+                    .then(|| (Branch::Reflection, m.specular * m.ks, mirror(facets.reflection))),
             };
         }
         let (n1, n2) = indices(m, entering);
-        match refract(d, n, n1 / n2) {
+        let facet = facets.refraction;
+        match refract(d, facet, n1 / n2) {
             Some(dir) => {
-                let r = schlick(-d.dot(n), -dir.dot(n), n1, n2);
+                let r = schlick(-d.dot(facet), -dir.dot(facet), n1, n2);
                 Secondary {
-                    refraction: Some((dir, m.color * ((1.0 - r) * m.t))),
-                    reflection: Some((Branch::Reflection, m.specular * r)),
+                    refraction: Some((on_side(dir, n, false), Vec3::splat((1.0 - r) * m.t))),
+                    reflection: Some((Branch::Reflection, m.specular * r, mirror(facets.reflection))),
                 }
             }
             None => Secondary {
                 refraction: None,
-                reflection: Some((Branch::TotalInternalReflection, m.specular)),
+                reflection: Some((Branch::TotalInternalReflection, m.specular, mirror(facet))),
             },
         }
     }
 }
 
 impl Model {
-    /// The secondary rays of a hit under this model's rules (see [`Rules`]).
+    /// The secondary rays of a hit on a smooth surface under this model's rules (see
+    /// [`Rules`]).
     pub fn secondary(self, m: &Material, d: Vec3, n: Vec3, entering: bool) -> Secondary {
+        let facets = Facets::smooth(n);
         match self {
-            Model::Spd => SpdRules::secondary(m, d, n, entering),
-            Model::P3f => P3fRules::secondary(m, d, n, entering),
+            Model::Spd => SpdRules::secondary(m, d, n, entering, &facets),
+            Model::P3f => P3fRules::secondary(m, d, n, entering, &facets),
         }
     }
-}
-
-/// Schlick's approximation of the Fresnel reflectance of a dielectric interface from
-/// index `n1` into `n2`: `R0 + (1 - R0) (1 - cos)^5`, `R0 = ((n1 - n2) / (n1 + n2))^2`,
-/// with `cos` the cosine of the angle on the optically thinner side (the incident
-/// angle `cos_i` entering a denser medium, the transmitted angle `cos_t` leaving
-/// one), which keeps the approximation symmetric and close to Fresnel's equations.
-#[inline]
-pub fn schlick(cos_i: f32, cos_t: f32, n1: f32, n2: f32) -> f32 {
-    let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
-    let cos = if n1 <= n2 { cos_i } else { cos_t };
-    let k = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
-    r0 + (1.0 - r0) * k
-}
-
-/// Mirror reflection of `d` about the unit normal `n`.
-#[inline]
-pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
-    d - n * (2.0 * d.dot(n))
-}
-
-/// Snell refraction of the unit direction `d` through a surface with unit normal `n`
-/// facing the incoming ray (`dot(d, n) < 0`), for `eta` = n_incident / n_transmitted.
-/// `None` under total internal reflection.
-#[inline]
-pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
-    let cos_i = -d.dot(n);
-    // sin^2 of the transmitted angle, from Snell's law eta * sin_i = sin_t.
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-    if sin2_t > 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((d * eta + n * (eta * cos_i - cos_t)).normalize())
 }
 
 #[cfg(test)]
@@ -290,34 +336,6 @@ mod tests {
 
     fn close(a: Vec3, b: Vec3) -> bool {
         (a - b).length() < 1e-5
-    }
-
-    #[test]
-    fn reflection_mirrors_about_the_normal() {
-        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
-        let r = reflect(d, Vec3::new(0.0, 1.0, 0.0));
-        assert!(close(r, Vec3::new(1.0, 1.0, 0.0).normalize()));
-    }
-
-    #[test]
-    fn refraction_obeys_snell() {
-        // 45 degrees into glass (ior 1.5): sin_t = sin 45 / 1.5.
-        let n = Vec3::new(0.0, 1.0, 0.0);
-        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
-        let t = refract(d, n, 1.0 / 1.5).unwrap();
-        let sin_t = (0.5f32).sqrt() / 1.5;
-        assert!(close(t, Vec3::new(sin_t, -(1.0 - sin_t * sin_t).sqrt(), 0.0)));
-        // Normal incidence passes straight through.
-        assert!(close(refract(-n, n, 1.0 / 1.5).unwrap(), -n));
-    }
-
-    #[test]
-    fn total_internal_reflection_past_the_critical_angle() {
-        // Leaving glass (eta 1.5): the critical angle is asin(1/1.5) = 41.8 degrees.
-        let n = Vec3::new(0.0, 1.0, 0.0);
-        let at = |deg: f32| Vec3::new(deg.to_radians().sin(), -deg.to_radians().cos(), 0.0);
-        assert!(refract(at(41.0), n, 1.5).is_some());
-        assert!(refract(at(42.5), n, 1.5).is_none());
     }
 
     #[test]
@@ -332,20 +350,7 @@ mod tests {
     }
 
     #[test]
-    fn schlick_at_normal_and_grazing_incidence() {
-        // Normal incidence, air into glass of index 1.5: R0 = (0.5 / 2.5)^2 = 0.04,
-        // the same from either side.
-        assert!((schlick(1.0, 1.0, 1.0, 1.5) - 0.04).abs() < 1e-6);
-        assert!((schlick(1.0, 1.0, 1.5, 1.0) - 0.04).abs() < 1e-6);
-        // Grazing incidence reflects everything.
-        assert!((schlick(0.0, 0.745, 1.0, 1.5) - 1.0).abs() < 1e-6);
-        // At 60 degrees into water (1.33): R0 = (0.33 / 2.33)^2, (1 - 0.5)^5 = 1/32.
-        let r0 = (0.33f32 / 2.33).powi(2);
-        assert!((schlick(0.5, 0.8, 1.0, 1.33) - (r0 + (1.0 - r0) / 32.0)).abs() < 1e-6);
-    }
-
-    #[test]
-    fn p3f_glass_splits_by_fresnel_and_absorbs_by_its_colour() {
+    fn p3f_glass_splits_by_fresnel_and_absorbs_inside() {
         let glass = Material {
             color: Vec3::new(1.0, 0.5, 0.25),
             kd: 0.0,
@@ -360,14 +365,26 @@ mod tests {
         let s = Model::P3f.secondary(&glass, -n, n, true);
         let (dir, tw) = s.refraction.unwrap();
         assert!(close(dir, -n));
-        assert!(close(tw, Vec3::new(0.96, 0.48, 0.24)));
-        assert_eq!(s.reflection.map(|(k, _)| k), Some(Branch::Reflection));
+        // (1 - R) T, R = 0.04 at normal incidence: the colour absorbs inside instead.
+        assert!(close(tw, Vec3::splat(0.96)));
+        assert_eq!(s.reflection.map(|(k, ..)| k), Some(Branch::Reflection));
         assert!(close(s.reflection.unwrap().1, Vec3::splat(0.04)));
+        assert_eq!(P3fRules::absorption(&glass), Some(Vec3::new(0.0, 0.5, 0.75)));
+        assert_eq!(
+            P3fRules::absorption(&Material {
+                color: Vec3::ONE,
+                ..glass
+            }),
+            None
+        );
         // Leaving past the critical angle: everything goes to the mirror ray.
         let d = Vec3::new(0.8, -0.6, 0.0);
         let s = Model::P3f.secondary(&glass, d, n, false);
         assert_eq!(s.refraction, None);
-        assert_eq!(s.reflection, Some((Branch::TotalInternalReflection, Vec3::ONE)));
+        assert_eq!(
+            s.reflection,
+            Some((Branch::TotalInternalReflection, Vec3::ONE, reflect(d, n)))
+        );
         // Opaque P3F: a mirror ray of Ks times the specular colour, only if Ks > 0.
         let metal = Material {
             t: 0.0,
@@ -378,7 +395,7 @@ mod tests {
         let s = Model::P3f.secondary(&metal, -n, n, true);
         assert_eq!(
             s.reflection,
-            Some((Branch::Reflection, Vec3::new(0.5, 0.25, 0.0)))
+            Some((Branch::Reflection, Vec3::new(0.5, 0.25, 0.0), n))
         );
         let matte = Material { ks: 0.0, ..metal };
         assert_eq!(Model::P3f.secondary(&matte, -n, n, true).reflection, None);

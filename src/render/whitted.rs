@@ -1,14 +1,20 @@
 //! Whitted ray tracing: at each hit the local term of every light (shadow rays to
 //! each point of the light), then a mirror and a refracted ray as the shading rules
 //! say ([`Rules`]: the SPD's for NFF scenes, the P3F course's), down to the
-//! render's maximum depth.
+//! render's maximum depth. Distribution effects ride on the eye sample: every ray of
+//! its tree sees the scene at the sample's time, a rough surface draws its rays'
+//! microfacet normals from the sample's stratified numbers (one dimension per depth
+//! and kind), and a ray inside absorbing glass brings back what Beer-Lambert leaves
+//! of what it meets.
 
 use std::marker::PhantomData;
 
 use super::integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, Recorder, TraceContext};
 use super::light::{LightSampling, LightSource};
-use super::sampling::SampleId;
-use super::shade::{local, reflect, Branch, Rules};
+use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
+use super::optics::beer_lambert;
+use super::sampling::{Dim, SampleId};
+use super::shade::{local, Branch, Facets, Rules};
 use crate::geometry::{point_error, Hit};
 use crate::math::{Ray, Vec3};
 use crate::prepare::RenderScene;
@@ -32,7 +38,7 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
         ctx: &mut TraceContext,
         rec: &mut R,
     ) -> Vec3 {
-        self.shade(ray, 1, found, id, ctx, rec)
+        self.shade(ray, 1, found, None, id, ctx, rec)
     }
 }
 
@@ -48,25 +54,30 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
     }
 
-    /// The colour seen along `ray` at ray-tree depth `depth`.
+    /// The colour seen along `ray` at ray-tree depth `depth`, travelling through a
+    /// medium of absorption coefficient `medium` (inside glass) or none.
     fn trace<R: Recorder>(
         &self,
         ray: &Ray,
         depth: u32,
+        medium: Option<Vec3>,
         id: &SampleId,
         ctx: &mut TraceContext,
         rec: &mut R,
     ) -> Vec3 {
         let found = self.scene.accel().closest_hit(ray, f32::INFINITY);
-        self.shade(ray, depth, found, id, ctx, rec)
+        self.shade(ray, depth, found, medium, id, ctx, rec)
     }
 
-    /// The colour seen along `ray` (at ray-tree depth `depth`) given its closest hit.
+    /// The colour seen along `ray` (at ray-tree depth `depth`, through `medium`)
+    /// given its closest hit.
+    #[allow(clippy::too_many_arguments)]
     fn shade<R: Recorder>(
         &self,
         ray: &Ray,
         depth: u32,
         found: Option<(Hit, u32)>,
+        medium: Option<Vec3>,
         id: &SampleId,
         ctx: &mut TraceContext,
         rec: &mut R,
@@ -104,6 +115,9 @@ impl<'a, M: Rules> Whitted<'a, M> {
         let diffuse = m.color * m.kd;
         let lighting = scene.lighting();
         let mut color = lighting.ambient.mul_elem(diffuse);
+        // What is left of the light on its way back through the medium (unit
+        // directions: t is the distance).
+        let left = medium.map(|sigma| beer_lambert(sigma, hit.t));
         if R::ENABLED {
             let record = HitRecord {
                 depth,
@@ -114,6 +128,8 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 shading_normal: ns,
                 entering,
                 ambient: color,
+                absorbed: left,
+                time: ray.time,
             };
             rec.hit(ray, &record);
         }
@@ -126,6 +142,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             ns,
             view: -ray.dir,
             depth,
+            time: ray.time,
         };
         for (k, light) in lighting.lights.iter().enumerate() {
             if light.area.is_some() {
@@ -142,34 +159,68 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
 
         if depth >= self.max_depth {
-            return Self::done(depth, color, rec);
+            return Self::done(depth, color, left, rec);
         }
-        let secondary = M::secondary(m, ray.dir, n, entering);
+        let rough = M::is_rough(m) && id.is_jittered();
+        let facets = if rough {
+            Self::facets(m, ray.dir, n, depth, id)
+        } else {
+            Facets::smooth(n)
+        };
+        let secondary = M::secondary(m, ray.dir, n, entering, &facets);
         if let Some((dir, weight)) = secondary.refraction {
             ctx.stats.refraction_rays += 1;
             if R::ENABLED {
-                rec.branch(Branch::Refraction, weight);
+                let smooth = rough.then(|| M::secondary(m, ray.dir, n, entering, &Facets::smooth(n)));
+                rec.branch(
+                    Branch::Refraction,
+                    weight,
+                    smooth.and_then(|s| s.refraction).map(|r| r.0),
+                );
             }
+            // Into the object: its glass absorbs; out of it: the open space.
+            let inside = if entering { M::absorption(m) } else { None };
             let below = if entering { p - offset } else { p + offset };
-            color += self
-                .trace(&Ray::new(below, dir), depth + 1, id, ctx, rec)
-                .mul_elem(weight);
+            let r = Ray::with_time(below, dir, ray.time);
+            color += self.trace(&r, depth + 1, inside, id, ctx, rec).mul_elem(weight);
         }
-        if let Some((kind, weight)) = secondary.reflection {
+        if let Some((kind, weight, dir)) = secondary.reflection {
             ctx.stats.reflection_rays += 1;
-            let r = Ray::new(above, reflect(ray.dir, n));
             if R::ENABLED {
-                rec.branch(kind, weight);
+                let smooth = rough.then(|| M::secondary(m, ray.dir, n, entering, &Facets::smooth(n)));
+                rec.branch(kind, weight, smooth.and_then(|s| s.reflection).map(|r| r.2));
             }
-            color += self.trace(&r, depth + 1, id, ctx, rec).mul_elem(weight);
+            // The mirror ray stays on the incoming ray's side, in its medium.
+            let r = Ray::with_time(above, dir, ray.time);
+            color += self.trace(&r, depth + 1, medium, id, ctx, rec).mul_elem(weight);
         }
-        Self::done(depth, color, rec)
+        Self::done(depth, color, left, rec)
     }
 
-    /// The colour a ray of depth `depth` returns, `color` as the rules return it
-    /// from a secondary ray ([`Rules::returned`]), reported to `rec`.
+    /// The microfacet normals about which a rough `m` hit by unit direction `d` (unit
+    /// normal `n` facing it, ray-tree depth `depth`) sends its secondary rays: drawn
+    /// from the normals visible from `-d` with the sample's stratified numbers.
+    fn facets(m: &Material, d: Vec3, n: Vec3, depth: u32, id: &SampleId) -> Facets {
+        let dist = TrowbridgeReitz::of_roughness(m.roughness);
+        let frame = MicroFrame::new(n);
+        let wo = frame.to_local(-d);
+        let draw = |dim| frame.to_world(dist.sample_visible(wo, id.point(dim)));
+        Facets {
+            reflection: draw(Dim::Reflection { depth }),
+            refraction: if m.t > 0.0 {
+                draw(Dim::Refraction { depth })
+            } else {
+                n
+            },
+        }
+    }
+
+    /// The colour a ray of depth `depth` returns: `color` times what is `left` of it
+    /// after the medium it crossed, as the rules return it from a secondary ray
+    /// ([`Rules::returned`]), reported to `rec`.
     #[inline(always)]
-    fn done<R: Recorder>(depth: u32, color: Vec3, rec: &mut R) -> Vec3 {
+    fn done<R: Recorder>(depth: u32, color: Vec3, left: Option<Vec3>, rec: &mut R) -> Vec3 {
+        let color = left.map_or(color, |f| color.mul_elem(f));
         let color = if depth > 1 { M::returned(color) } else { color };
         if R::ENABLED {
             rec.done(color);
@@ -228,7 +279,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         // reciprocal direction then no longer waits on a square root and a division
         // (the longest chain in setting up a shadow ray); the intersection tests do
         // not need unit directions.
-        let shadow_ray = Ray::new(at.above, to_light);
+        let shadow_ray = Ray::with_time(at.above, to_light, at.time);
         let accel = self.scene.accel();
         let blocked = match ctx.hint(k, at.depth) {
             Some(hint) => accel.occluded_hinted(&shadow_ray, 1.0, hint),
@@ -258,4 +309,45 @@ struct Lit<'m> {
     /// Towards the ray's origin.
     view: Vec3,
     depth: u32,
+    /// The moment the ray sees the scene at (its shadow rays see it then too).
+    time: f32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::shade::P3fRules;
+
+    /// The facets a rough hit draws, over the 4096 stratified samples of one pixel at
+    /// normal incidence, have the distribution's moments: u = tan^2(tm) / (a^2 +
+    /// tan^2(tm)) is uniform (mean 1/2, variance 1/12), the azimuth too; stratified,
+    /// closer than independent numbers would be.
+    #[test]
+    fn rough_facets_of_a_pixels_samples_have_the_distributions_moments() {
+        let m = Material {
+            roughness: 0.6,
+            ks: 0.5,
+            ..Material::DEFAULT
+        };
+        let alpha = TrowbridgeReitz::of_roughness(m.roughness).alpha() as f64;
+        let n = Vec3::new(0.0, 0.0, 1.0);
+        let count = 4096;
+        let (mut s1, mut s2, mut cx) = (0.0f64, 0.0f64, 0.0f64);
+        for index in 0..count {
+            let id = SampleId::new(3, 7, index, count, true);
+            let f = Whitted::<P3fRules>::facets(&m, -n, n, 2, &id);
+            assert_eq!(f.refraction, n, "opaque: no refraction facet");
+            let c = f.reflection.z as f64;
+            let tan2 = (1.0 - c * c) / (c * c);
+            let u = tan2 / (alpha * alpha + tan2);
+            s1 += u;
+            s2 += u * u;
+            cx += (f.reflection.y as f64).atan2(f.reflection.x as f64).cos();
+        }
+        let mean = s1 / count as f64;
+        let var = s2 / count as f64 - mean * mean;
+        assert!((mean - 0.5).abs() < 0.002, "mean {mean}");
+        assert!((var - 1.0 / 12.0).abs() < 0.002, "variance {var}");
+        assert!((cx / count as f64).abs() < 0.01);
+    }
 }
