@@ -25,6 +25,7 @@ use crate::accel::Bvh;
 use crate::geometry::{build_geometry_for_shutter, Primitive};
 use crate::image::{Image, Region};
 use crate::load::Assets;
+use crate::render::emitters::Emitters;
 use crate::render::{
     check_options, render_region, Background, Lighting, Observer, RenderOptions, Silent, Stats,
 };
@@ -50,6 +51,8 @@ pub struct RenderScene {
     shutter: [f32; 2],
     /// Moving geometry seen over a shutter that stays open for some time.
     motion: bool,
+    /// The lights and emissive primitives a path tracer samples.
+    emitters: Emitters,
 }
 
 /// What a caller may choose of the render-time scene, replacing the file's settings.
@@ -77,10 +80,13 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
         .kind_counts
         .iter()
         .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
+    let lighting = Lighting::new(&info);
+    let accel = Bvh::new(geometry);
     RenderScene {
-        lighting: Lighting::new(&info),
+        emitters: Emitters::new(&lighting.lights, &accel, &info.materials),
+        lighting,
         background: Background::new(info.background, assets.skybox.clone()),
-        accel: Bvh::new(geometry),
+        accel,
         shutter,
         motion: moving && shutter[1] > shutter[0],
         info,
@@ -135,6 +141,11 @@ impl RenderScene {
     /// The lights with their intensities, the ambient term and the shading rules.
     pub fn lighting(&self) -> &Lighting {
         &self.lighting
+    }
+
+    /// The lights and emissive primitives a path tracer samples.
+    pub fn emitters(&self) -> &Emitters {
+        &self.emitters
     }
 
     /// What rays that leave the scene see.

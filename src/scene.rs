@@ -54,6 +54,16 @@ impl Material {
     };
 }
 
+impl Material {
+    /// The absorption coefficient per unit length inside a transmissive material,
+    /// `1 - C` per channel (at least 0), if it absorbs at all: Beer-Lambert's
+    /// `exp(-(1 - C) d)` over a distance `d` inside (P3F-SPEC).
+    pub fn absorption(&self) -> Option<Vec3> {
+        let sigma = (Vec3::ONE - self.color).max(Vec3::ZERO);
+        (self.t > 0.0 && sigma != Vec3::ZERO).then_some(sigma)
+    }
+}
+
 /// A light: a point (`l x y z [r g b]`, P3F `light punctual`) or a parallelogram
 /// (P3F `al`, `light quad`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -340,11 +350,12 @@ pub enum Accel {
 
 /// The light transport a P3F file asks for (`integrator`); the command line's
 /// choice wins over it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Integrator {
     /// `integrator whitted`: Whitted's recursive ray tracing (distribution ray
-    /// tracing with more than one sample per pixel).
+    /// tracing with more than one sample per pixel), the default.
+    #[default]
     Whitted,
     /// `integrator path`: path tracing.
     Path,

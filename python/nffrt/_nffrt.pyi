@@ -87,6 +87,7 @@ class Scene:
         focal: Optional[float] = None,
         light_samples: Optional[int] = None,
         seed: int = 0,
+        integrator: Optional[str] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
         linear RGB, the values ``nffrt render -o X.pfm`` writes. ``width``,
@@ -94,7 +95,8 @@ class Scene:
         keeps its aspect); ``region=(x0, y0, x1, y1)`` renders that crop only;
         ``light_samples`` samples every area light on an N x N grid at every hit;
         ``seed`` chooses another, as deterministic, sample pattern (0: the usual
-        one). Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
+        one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's).
+        Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
     def image_size(self, width: Optional[int] = None, height: Optional[int] = None) -> Tuple[int, int]:
         """The ``(width, height)`` ``render`` makes with these arguments."""
     @property

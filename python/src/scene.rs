@@ -13,7 +13,7 @@ use nffrt::math::Vec3;
 use nffrt::nff::{parse_format_cancellable, Format, Limits};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{image_size, RenderOptions, RenderRequest, Stats};
-use nffrt::scene::{Dialect, Light, SceneInfo};
+use nffrt::scene::{Dialect, Integrator, Light, SceneInfo};
 use nffrt::words::shortest_f64;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
@@ -231,9 +231,10 @@ impl PyScene {
     /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`
     /// (focal distance over |from - at|) replace the scene's lens. `light_samples`
     /// samples every area light on an N x N grid at every hit; `seed` chooses another
-    /// sample pattern (0: the usual one). The GIL is released while rendering;
+    /// sample pattern (0: the usual one); `integrator` is `"whitted"` or `"path"`
+    /// (default: the file's `integrator`, else Whitted's). The GIL is released while rendering;
     /// Ctrl-C stops the render with `KeyboardInterrupt`.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=0))]
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=0, integrator=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -249,7 +250,18 @@ impl PyScene {
         focal: Option<f32>,
         light_samples: Option<u32>,
         seed: u32,
+        integrator: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let integrator = match integrator.map(str::to_ascii_lowercase).as_deref() {
+            None => None,
+            Some("whitted") => Some(Integrator::Whitted),
+            Some("path") => Some(Integrator::Path),
+            Some(other) => {
+                return Err(value_error(format!(
+                    "integrator {other:?}: use \"whitted\" or \"path\""
+                )))
+            }
+        };
         let opts = self.options(&RenderRequest {
             width,
             height,
@@ -260,6 +272,7 @@ impl PyScene {
             focal,
             light_samples,
             seed: Some(seed),
+            integrator,
             ..RenderRequest::default()
         })?;
         let image = self.render_image(py, &opts, region, threads)?;

@@ -21,7 +21,7 @@ use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::prepare::prepare;
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, RenderRequest, Resolved};
-use nffrt::scene::SceneInfo;
+use nffrt::scene::{Integrator, SceneInfo};
 use nffrt::words::count;
 
 /// Arguments of `nffrt render`.
@@ -85,6 +85,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true,
           value_parser = whole_number::<u32>(0, u32::MAX as u64))]
     pub seed: Option<u32>,
+    /// The light transport: `whitted` (recursive ray tracing, the SPD's and the
+    /// course's rules) or `path` (path tracing with next-event estimation). Default:
+    /// the file's P3F `integrator`, else whitted.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub integrator: Option<IntegratorArg>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;
     /// `nffrt merge` assembles tiles.
@@ -159,6 +164,24 @@ fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), C
     refuse_overwriting(&outputs, &[(&args.scene, "the scene file")])
 }
 
+/// The values of `--integrator`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorArg {
+    /// Whitted's recursive ray tracing.
+    Whitted,
+    /// Path tracing.
+    Path,
+}
+
+impl From<IntegratorArg> for Integrator {
+    fn from(a: IntegratorArg) -> Integrator {
+        match a {
+            IntegratorArg::Whitted => Integrator::Whitted,
+            IntegratorArg::Path => Integrator::Path,
+        }
+    }
+}
+
 /// What `args` ask of the render.
 pub fn request(args: &RenderArgs) -> RenderRequest {
     RenderRequest {
@@ -172,6 +195,7 @@ pub fn request(args: &RenderArgs) -> RenderRequest {
         light_samples: args.light_samples,
         hard_shadows: false,
         seed: args.seed,
+        integrator: args.integrator.map(Into::into),
     }
 }
 

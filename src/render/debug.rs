@@ -9,7 +9,8 @@
 
 use std::fmt;
 
-use super::integrator::{AreaOutcome, HitRecord, LightOutcome, Recorder, TraceContext};
+use super::integrator::{AreaOutcome, HitRecord, LightOutcome, PathEvent, Recorder, TraceContext};
+use super::path_log::{write_path, PathStep};
 use super::{spd_mean, Branch, CameraSample, Frame, RenderOptions, SampleId, Sampling, Stats};
 use crate::geometry::SourceKind;
 use crate::image::quantize;
@@ -84,6 +85,16 @@ pub enum LightRecord {
     },
 }
 
+/// What became of one eye ray: its Whitted ray tree, or its path.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(untagged)]
+pub enum Traced {
+    /// The ray tree (Whitted).
+    Tree(Box<RayNode>),
+    /// The path's events (path tracing).
+    Path(Vec<PathStep>),
+}
+
 /// The ray trees of every eye ray of one pixel, and the pixel's value.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PixelTrace {
@@ -93,8 +104,8 @@ pub struct PixelTrace {
     pub y: u32,
     /// The options the pixel was traced with.
     pub opts: RenderOptions,
-    /// Each eye ray: its raster position and tree.
-    pub samples: Vec<(CameraSample, RayNode)>,
+    /// Each eye ray: its camera sample and what became of it.
+    pub samples: Vec<(CameraSample, Traced)>,
     /// True if the camera has a lens (the lens positions are printed).
     pub lens: bool,
     /// True if geometry moves while the shutter is open (the times are printed).
@@ -121,6 +132,8 @@ struct TreeRecorder<'a> {
     /// Points of the area light being sampled.
     points: Vec<(Vec3, LightOutcome)>,
     root: Option<RayNode>,
+    /// The path tracer's events.
+    path: Vec<PathStep>,
 }
 
 impl TreeRecorder<'_> {
@@ -209,6 +222,10 @@ impl Recorder for TreeRecorder<'_> {
         self.pending = Some((kind, weight, smooth));
     }
 
+    fn path(&mut self, event: PathEvent) {
+        self.path.push(PathStep::of(event));
+    }
+
     fn done(&mut self, color: Vec3) {
         if let Some((branch, mut node)) = self.open.pop() {
             node.color = color;
@@ -230,9 +247,14 @@ pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u3
             pending: None,
             points: Vec::new(),
             root: None,
+            path: Vec::new(),
         };
         let c = frame.sample_radiance(&sample, &id, &mut ctx, &mut rec);
-        samples.push((sample, rec.root.expect("every eye ray records a tree")));
+        let traced = match rec.root {
+            Some(tree) => Traced::Tree(Box::new(tree)),
+            None => Traced::Path(rec.path),
+        };
+        samples.push((sample, traced));
         c
     };
     let value = match opts.sampling {
@@ -452,7 +474,7 @@ impl fmt::Display for PixelTrace {
                 String::new()
             };
             let time = if self.motion {
-                format!(", time {} ({} of the shutter)", node.time, sample.time)
+                format!(", shutter fraction {}", sample.time)
             } else {
                 String::new()
             };
@@ -461,7 +483,16 @@ impl fmt::Display for PixelTrace {
                 "eye ray {} of {n} through raster ({px}, {py}){lens}{time}:",
                 k + 1
             )?;
-            self.write_node(f, node, 1)?;
+            match node {
+                Traced::Tree(tree) => self.write_node(f, tree, 1)?,
+                Traced::Path(steps) => write_path(
+                    f,
+                    steps,
+                    "  ",
+                    |k| kind_name(k, self.dialect),
+                    |v| V(v).to_string(),
+                )?,
+            }
         }
         let v = self.value;
         writeln!(
@@ -524,13 +555,16 @@ mod tests {
             for x in 0..opts.width {
                 let t = trace_pixel(&scene, scene.view(), &opts, x, y);
                 let mut acc = [0; 5];
-                tally(&t.samples[0].1, &mut acc);
+                let Traced::Tree(tree) = &t.samples[0].1 else {
+                    panic!("Whitted traces trees")
+                };
+                tally(tree, &mut acc);
                 let s = &t.stats;
                 assert_eq!(acc[0], s.eye_hits + s.secondary_hits, "({x}, {y})");
                 assert_eq!(acc[1], s.reflection_rays, "({x}, {y})");
                 assert_eq!(acc[2], s.refraction_rays, "({x}, {y})");
                 assert_eq!((acc[3], acc[4]), (s.shadow_rays, s.shadow_blocked), "({x}, {y})");
-                assert_eq!(t.samples[0].1.color, t.value);
+                assert_eq!(tree.color, t.value);
                 refracted += s.refraction_rays;
             }
         }

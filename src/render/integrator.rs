@@ -4,7 +4,8 @@
 //! An [`Integrator`] answers one question: the radiance arriving at the camera along
 //! an eye ray of one sample, given the ray's closest hit (which the row loop finds
 //! for a packet of eye rays at once). Whitted ray tracing ([`super::whitted`], with
-//! the SPD's or the P3F course's shading rules) is one implementation;
+//! the SPD's or the P3F course's shading rules) is one implementation, path tracing
+//! ([`super::path`]) the other;
 //! [`ChosenIntegrator`] is the one a render uses, chosen once from the scene and the
 //! options.
 //!
@@ -15,7 +16,9 @@
 
 use std::cell::Cell;
 
+use super::bsdf::BsdfSample;
 use super::light::LightSampling;
+use super::path::PathTracer;
 use super::shade::{Branch, Model, P3fRules, SpdRules};
 use super::stats::Stats;
 use super::whitted::Whitted;
@@ -25,6 +28,7 @@ use crate::geometry::{Hit, Primitive};
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::prepare::RenderScene;
+use crate::scene::Integrator as Method;
 
 use super::sampling::SampleId;
 
@@ -43,13 +47,15 @@ pub trait Integrator: Sync {
     ) -> Vec3;
 }
 
-/// The integrator of one render: chosen once from the scene's shading rules and the
-/// render's options, then asked per eye ray (one predictable branch).
+/// The integrator of one render: chosen once from the render's options and the
+/// scene's shading rules, then asked per eye ray (one predictable branch).
 pub enum ChosenIntegrator<'a> {
     /// Whitted ray tracing under the SPD's rules (NFF scenes).
     WhittedSpd(Whitted<'a, SpdRules>),
     /// Whitted ray tracing under the P3F course's rules.
     WhittedP3f(Whitted<'a, P3fRules>),
+    /// Path tracing.
+    Path(PathTracer<'a>),
 }
 
 impl<'a> ChosenIntegrator<'a> {
@@ -59,9 +65,14 @@ impl<'a> ChosenIntegrator<'a> {
             grid_override: opts.light_samples,
             soft_shadows: opts.soft_shadows,
         };
-        match scene.lighting().model {
-            Model::Spd => ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth)),
-            Model::P3f => ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth)),
+        match (opts.integrator, scene.lighting().model) {
+            (Method::Path, _) => ChosenIntegrator::Path(PathTracer::new(scene, opts.max_depth)),
+            (Method::Whitted, Model::Spd) => {
+                ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth))
+            }
+            (Method::Whitted, Model::P3f) => {
+                ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth))
+            }
         }
     }
 }
@@ -79,6 +90,7 @@ impl Integrator for ChosenIntegrator<'_> {
         match self {
             ChosenIntegrator::WhittedSpd(w) => w.eye_radiance(ray, found, id, ctx, rec),
             ChosenIntegrator::WhittedP3f(w) => w.eye_radiance(ray, found, id, ctx, rec),
+            ChosenIntegrator::Path(p) => p.eye_radiance(ray, found, id, ctx, rec),
         }
     }
 }
@@ -194,6 +206,70 @@ pub trait Recorder {
     fn branch(&mut self, _kind: Branch, _weight: Vec3, _smooth: Option<Vec3>) {}
     /// The current hit's final colour.
     fn done(&mut self, _color: Vec3) {}
+    /// An event of a path (the path tracer's, in order along the path).
+    fn path(&mut self, _event: PathEvent) {}
+}
+
+/// What a path tracer reports of a path, in order along it.
+#[derive(Clone, Copy, Debug)]
+pub enum PathEvent<'a> {
+    /// The path's segment `ray` met `primitive` at distance `t`: a vertex at
+    /// `point`, geometric normal `normal` facing the ray; `throughput` is the path's
+    /// weight arriving there.
+    Vertex {
+        /// The segment.
+        ray: Ray,
+        /// What it met.
+        primitive: &'a Primitive,
+        /// How far along.
+        t: f32,
+        /// The vertex.
+        point: Vec3,
+        /// Its normal, facing the segment.
+        normal: Vec3,
+        /// True if the segment crosses into the object.
+        entering: bool,
+        /// The path's weight there.
+        throughput: Vec3,
+    },
+    /// The vertex is on an emitter: its radiance, counted with this MIS weight.
+    Emitted {
+        /// The emitted radiance.
+        radiance: Vec3,
+        /// Its multiple-importance weight (1 when no other strategy could find it).
+        weight: f32,
+    },
+    /// A light sample at the vertex: the point drawn, what it adds (before the
+    /// path's throughput) with its MIS weight, or that a shadow ray was blocked.
+    Light {
+        /// The light's point.
+        point: Vec3,
+        /// `f cos Li / pdf`, weighted.
+        contribution: Vec3,
+        /// Its multiple-importance weight.
+        weight: f32,
+        /// A blocker was found.
+        blocked: bool,
+    },
+    /// The BSDF sample that continues the path: its direction, the sample, and the
+    /// throughput after it.
+    Bsdf {
+        /// The new direction (world).
+        dir: Vec3,
+        /// The sample (local direction, weight, pdf, kind).
+        sample: BsdfSample,
+        /// The throughput after it.
+        throughput: Vec3,
+    },
+    /// The segment `ray` left the scene and sees `radiance` from infinity.
+    Escape {
+        /// The segment.
+        ray: Ray,
+        /// The background's radiance.
+        radiance: Vec3,
+        /// The path's weight.
+        throughput: Vec3,
+    },
 }
 
 /// The recorder of ordinary renders: records nothing, costs nothing.

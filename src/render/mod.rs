@@ -14,12 +14,16 @@
 //! pixel coordinates, so a crop's pixels equal the full render's there, bit for bit.
 
 mod background;
+pub mod bsdf;
 mod camera;
 pub mod debug;
+pub mod emitters;
 pub mod integrator;
 mod light;
 pub mod microfacet;
 pub mod optics;
+pub mod path;
+pub mod path_log;
 mod progressive;
 pub mod request;
 mod rows;
@@ -30,7 +34,9 @@ pub mod whitted;
 
 pub use background::Background;
 pub use camera::{Camera, CameraSample};
-pub use integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext};
+pub use integrator::{
+    AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, PathEvent, Recorder, TraceContext,
+};
 pub use light::{LightQuad, LightSampling, LightSource};
 pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
@@ -48,7 +54,7 @@ use crate::limits::{
 };
 use crate::math::Vec3;
 use crate::prepare::RenderScene;
-use crate::scene::View;
+use crate::scene::{Integrator as Method, View};
 use rows::each_row;
 
 /// How to render. Every field changes the picture.
@@ -74,6 +80,8 @@ pub struct RenderOptions {
     /// The sample pattern: 0 is nffrt's first, any other an unrelated one, as
     /// deterministic (independent renders to average, or to compare noise with).
     pub seed: u32,
+    /// The light transport: Whitted's rules or path tracing.
+    pub integrator: Method,
 }
 
 impl Default for RenderOptions {
@@ -89,6 +97,7 @@ impl Default for RenderOptions {
             light_samples: None,
             soft_shadows: true,
             seed: 0,
+            integrator: Method::Whitted,
         }
     }
 }

@@ -6,7 +6,7 @@
 
 use super::{check_settings, RenderOptions, Sampling};
 use crate::limits::{DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
-use crate::scene::SceneInfo;
+use crate::scene::{Integrator, SceneInfo};
 
 /// What a caller asks of a render; `None` leaves a setting to the scene or the
 /// default.
@@ -33,6 +33,8 @@ pub struct RenderRequest {
     pub hard_shadows: bool,
     /// The sample pattern ([`RenderOptions::seed`]; default 0).
     pub seed: Option<u32>,
+    /// The light transport (default: the file's `integrator`, else Whitted's).
+    pub integrator: Option<Integrator>,
 }
 
 /// A request resolved: the options, and what the caller should be told about how
@@ -62,6 +64,7 @@ impl RenderRequest {
             light_samples: self.light_samples,
             soft_shadows: !self.hard_shadows,
             seed: self.seed.unwrap_or(0),
+            integrator: self.integrator.or(scene.integrator).unwrap_or_default(),
         };
         check_settings(&opts)?;
         Ok(Resolved { opts, notes })
@@ -96,7 +99,10 @@ impl RenderRequest {
             }
             (None, None) => 1,
         };
+        let path = self.integrator.or(scene.integrator) == Some(Integrator::Path);
         Ok(match spp {
+            // A path draws its every direction from the sample: never a fixed one.
+            _ if path => Sampling::Stratified { spp: spp.max(1) },
             0 => Sampling::PixelCenters,
             1 if effect.is_some() => Sampling::Stratified { spp: 1 },
             1 => Sampling::PixelCenters,
@@ -105,9 +111,12 @@ impl RenderRequest {
     }
 
     /// The first effect of the render that one centred sample per pixel would drop,
-    /// named for a note: the lens, motion while the shutter is open, rough mirrors
-    /// or glass.
+    /// named for a note: path tracing itself, the lens, motion while the shutter is
+    /// open, rough mirrors or glass.
     fn effect_needing_samples(&self, scene: &SceneInfo) -> Option<&'static str> {
+        if self.integrator.or(scene.integrator) == Some(Integrator::Path) {
+            return Some("path tracing");
+        }
         let aperture = self.aperture.unwrap_or(scene.view.aperture);
         let moving = scene
             .kind_counts

@@ -261,6 +261,32 @@ pub enum Dim {
         /// The ray-tree depth of the hit.
         depth: u32,
     },
+    /// A path's choice of BSDF lobe at its vertex after `depth` segments.
+    Lobe {
+        /// Segments before the vertex.
+        depth: u32,
+    },
+    /// A path's BSDF direction at its vertex after `depth` segments.
+    Bsdf {
+        /// Segments before the vertex.
+        depth: u32,
+    },
+    /// A path's choice of emitter for the light sample at its vertex after `depth`
+    /// segments.
+    LightChoice {
+        /// Segments before the vertex.
+        depth: u32,
+    },
+    /// The point of that emitter.
+    LightPoint {
+        /// Segments before the vertex.
+        depth: u32,
+    },
+    /// Russian roulette before a path's segment `depth`.
+    Roulette {
+        /// The segment.
+        depth: u32,
+    },
 }
 
 impl Dim {
@@ -275,6 +301,11 @@ impl Dim {
             Dim::Time => 1 << 60,
             Dim::Reflection { depth } => (2 << 60) + depth as u64,
             Dim::Refraction { depth } => (3 << 60) + depth as u64,
+            Dim::Lobe { depth } => (4 << 60) + depth as u64,
+            Dim::Bsdf { depth } => (5 << 60) + depth as u64,
+            Dim::LightChoice { depth } => (6 << 60) + depth as u64,
+            Dim::LightPoint { depth } => (7 << 60) + depth as u64,
+            Dim::Roulette { depth } => (8 << 60) + depth as u64,
         }
     }
 }

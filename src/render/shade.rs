@@ -281,8 +281,7 @@ impl Rules for P3fRules {
     /// white: Beer-Lambert absorption inside.
     #[inline(always)]
     fn absorption(m: &Material) -> Option<Vec3> {
-        let sigma = (Vec3::ONE - m.color).max(Vec3::ZERO);
-        (m.t > 0.0 && sigma != Vec3::ZERO).then_some(sigma)
+        m.absorption()
     }
 
     #[inline(always)]

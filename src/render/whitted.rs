@@ -115,6 +115,11 @@ impl<'a, M: Rules> Whitted<'a, M> {
         let diffuse = m.color * m.kd;
         let lighting = scene.lighting();
         let mut color = lighting.ambient.mul_elem(diffuse);
+        // An emitter shows its radiance on the side of its own normal (it lights
+        // nothing here: the path tracer samples emitters as lights).
+        if entering {
+            color += m.emission;
+        }
         // What is left of the light on its way back through the medium (unit
         // directions: t is the distance).
         let left = medium.map(|sigma| beer_lambert(sigma, hit.t));
