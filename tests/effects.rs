@@ -114,6 +114,7 @@ use nffrt::load::Assets;
 use nffrt::nff::{parse_format, Format};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{render, RenderOptions, Sampling};
+use nffrt::scene::Integrator as Method;
 
 /// A P3F scene from text, prepared.
 fn p3f(text: &str) -> RenderScene {
@@ -238,20 +239,32 @@ fn roughness_zero_is_the_smooth_surface_and_roughness_spreads_reflections() {
              mat 1 1 1 0 1 1 1 0.1 50 1 1.5{roughness}\ns 1 0.8 1 0.7\nspp 4\n"
         )
     };
-    let render_text = |t: &str| {
+    let render_with = |t: &str, roughness: bool, integrator: Method| {
         let scene = p3f(t);
         render(
             &scene,
             scene.view(),
             &RenderOptions {
                 sampling: Sampling::Stratified { spp: 4 },
+                roughness,
+                integrator,
                 ..RenderOptions::from_view(scene.view())
             },
         )
         .0
     };
+    let render_text = |t: &str| render_with(t, true, Method::Whitted);
     let smooth = render_text(&text(""));
     assert_eq!(render_text(&text(" roughness 0")), smooth);
     let rough = render_text(&text(" roughness 0.5"));
     assert_ne!(rough, smooth);
+    // The viewer's roughness switch turned off renders the rough file as the smooth
+    // one, in both integrators.
+    for integrator in [Method::Whitted, Method::Path] {
+        assert_eq!(
+            render_with(&text(" roughness 0.5"), false, integrator),
+            render_with(&text(""), true, integrator),
+            "{integrator:?}"
+        );
+    }
 }

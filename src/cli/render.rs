@@ -196,6 +196,7 @@ pub fn request(args: &RenderArgs) -> RenderRequest {
         hard_shadows: false,
         seed: args.seed,
         integrator: args.integrator.map(Into::into),
+        smooth: false,
     }
 }
 

@@ -102,8 +102,9 @@ fn mean(c: Vec3) -> f32 {
 
 impl Bsdf {
     /// The BSDF of `m` for a ray that `entering` the object (crossing against the
-    /// primitive's own normal) or leaving it.
-    pub fn new(m: &Material, entering: bool) -> Bsdf {
+    /// primitive's own normal) or leaving it; smooth whatever `m`'s roughness unless
+    /// `roughness`.
+    pub fn new(m: &Material, entering: bool, roughness: bool) -> Bsdf {
         let diffuse = (m.color * m.kd).max(Vec3::ZERO);
         let dielectric = m.t > 0.0;
         let mirror = if dielectric {
@@ -129,7 +130,7 @@ impl Bsdf {
             tint: m.specular.max(Vec3::ZERO),
             transmit: m.t.max(0.0),
             eta: if entering { ior } else { 1.0 / ior },
-            rough: (m.roughness > 0.0).then(|| TrowbridgeReitz::of_roughness(m.roughness)),
+            rough: (roughness && m.roughness > 0.0).then(|| TrowbridgeReitz::of_roughness(m.roughness)),
             choice,
         }
     }
@@ -327,6 +328,12 @@ mod tests {
         std::iter::repeat_with(move || (next(), next(), next())).take(n)
     }
 
+    impl Bsdf {
+        fn new_test(m: &Material, entering: bool) -> Bsdf {
+            Bsdf::new(m, entering, true)
+        }
+    }
+
     fn material(kd: f32, ks: f32, t: f32, ior: f32, roughness: f32) -> Material {
         Material {
             color: Vec3::ONE,
@@ -373,14 +380,14 @@ mod tests {
             }
             sum / n as f64
         };
-        let lambert = Bsdf::new(&material(0.5, 0.0, 0.0, 1.0, 0.0), true);
+        let lambert = Bsdf::new_test(&material(0.5, 0.0, 0.0, 1.0, 0.0), true);
         assert!((albedo(&lambert, false) - 0.5).abs() < 1e-4);
-        let glass = Bsdf::new(&material(0.0, 0.0, 1.0, 1.5, 0.0), true);
+        let glass = Bsdf::new_test(&material(0.0, 0.0, 1.0, 1.5, 0.0), true);
         assert!((albedo(&glass, true) - 1.0).abs() < 0.01);
-        let rough_glass = Bsdf::new(&material(0.0, 0.0, 1.0, 1.5, 0.3), true);
+        let rough_glass = Bsdf::new_test(&material(0.0, 0.0, 1.0, 1.5, 0.3), true);
         let a = albedo(&rough_glass, true);
         assert!(a > 0.9 && a < 1.01, "rough glass albedo {a}");
-        let metal = Bsdf::new(&material(0.0, 1.0, 0.0, 1.0, 0.2), true);
+        let metal = Bsdf::new_test(&material(0.0, 1.0, 0.0, 1.0, 0.2), true);
         let a = albedo(&metal, false);
         assert!(a > 0.95 && a < 1.001, "rough mirror albedo {a}");
     }
@@ -398,7 +405,7 @@ mod tests {
             material(0.0, 0.0, 1.0, 1.0 / 1.5, 0.5),
         ] {
             for entering in [true, false] {
-                let b = Bsdf::new(&m, entering);
+                let b = Bsdf::new(&m, entering, true);
                 for (a, u1, u2) in uniforms(2000, 3) {
                     let Some(s) = b.sample(wo, a, (u1, u2)) else {
                         continue;
@@ -422,7 +429,7 @@ mod tests {
     #[test]
     fn the_pdf_integrates_to_one() {
         let wo = Vec3::new(0.4, 0.0, 0.92).normalize();
-        let b = Bsdf::new(&material(0.4, 0.6, 0.0, 1.0, 0.5), true);
+        let b = Bsdf::new_test(&material(0.4, 0.6, 0.0, 1.0, 0.5), true);
         let (nc, np) = (400, 400);
         let mut sum = 0.0f64;
         for i in 0..nc {

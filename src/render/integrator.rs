@@ -66,12 +66,14 @@ impl<'a> ChosenIntegrator<'a> {
             soft_shadows: opts.soft_shadows,
         };
         match (opts.integrator, scene.lighting().model) {
-            (Method::Path, _) => ChosenIntegrator::Path(PathTracer::new(scene, opts.max_depth)),
+            (Method::Path, _) => {
+                ChosenIntegrator::Path(PathTracer::new(scene, opts.max_depth, opts.roughness))
+            }
             (Method::Whitted, Model::Spd) => {
-                ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth))
+                ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
             }
             (Method::Whitted, Model::P3f) => {
-                ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth))
+                ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
             }
         }
     }

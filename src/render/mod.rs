@@ -82,6 +82,9 @@ pub struct RenderOptions {
     pub seed: u32,
     /// The light transport: Whitted's rules or path tracing.
     pub integrator: Method,
+    /// False: every surface smooth, whatever its material's roughness (the viewer's
+    /// toggle).
+    pub roughness: bool,
 }
 
 impl Default for RenderOptions {
@@ -98,6 +101,7 @@ impl Default for RenderOptions {
             soft_shadows: true,
             seed: 0,
             integrator: Method::Whitted,
+            roughness: true,
         }
     }
 }

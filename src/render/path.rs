@@ -34,12 +34,19 @@ const SHADOW_SHORTFALL: f32 = 1e-4;
 pub struct PathTracer<'a> {
     scene: &'a RenderScene,
     max_depth: u32,
+    /// False: every surface smooth.
+    roughness: bool,
 }
 
 impl<'a> PathTracer<'a> {
-    /// Traces `scene` with paths of at most `max_depth` segments.
-    pub fn new(scene: &'a RenderScene, max_depth: u32) -> Self {
-        PathTracer { scene, max_depth }
+    /// Traces `scene` with paths of at most `max_depth` segments, rough surfaces
+    /// rough unless `roughness` is false.
+    pub fn new(scene: &'a RenderScene, max_depth: u32, roughness: bool) -> Self {
+        PathTracer {
+            scene,
+            max_depth,
+            roughness,
+        }
     }
 }
 
@@ -138,7 +145,7 @@ impl Integrator for PathTracer<'_> {
             let wo_world = -ray.dir.normalize();
             let frame = Frame::new(if ns.dot(wo_world) > 0.0 { ns } else { n });
             let wo = frame.to_local(wo_world);
-            let bsdf = Bsdf::new(m, entering);
+            let bsdf = Bsdf::new(m, entering, self.roughness);
             if bsdf.is_black() {
                 break;
             }

@@ -35,6 +35,8 @@ pub struct RenderRequest {
     pub seed: Option<u32>,
     /// The light transport (default: the file's `integrator`, else Whitted's).
     pub integrator: Option<Integrator>,
+    /// Every surface smooth, whatever its material's roughness (the viewer's toggle).
+    pub smooth: bool,
 }
 
 /// A request resolved: the options, and what the caller should be told about how
@@ -65,6 +67,7 @@ impl RenderRequest {
             soft_shadows: !self.hard_shadows,
             seed: self.seed.unwrap_or(0),
             integrator: self.integrator.or(scene.integrator).unwrap_or_default(),
+            roughness: !self.smooth,
         };
         check_settings(&opts)?;
         Ok(Resolved { opts, notes })
@@ -122,10 +125,11 @@ impl RenderRequest {
             .kind_counts
             .iter()
             .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
-        let rough = scene
-            .materials
-            .iter()
-            .any(|m| m.roughness > 0.0 && (m.ks > 0.0 || m.t > 0.0));
+        let rough = !self.smooth
+            && scene
+                .materials
+                .iter()
+                .any(|m| m.roughness > 0.0 && (m.ks > 0.0 || m.t > 0.0));
         if aperture > 0.0 {
             Some("the lens (depth of field)")
         } else if moving && scene.shutter[1] > scene.shutter[0] {

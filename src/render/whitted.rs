@@ -25,6 +25,8 @@ pub struct Whitted<'a, M: Rules> {
     scene: &'a RenderScene,
     light_sampling: LightSampling,
     max_depth: u32,
+    /// False: every surface smooth.
+    roughness: bool,
     rules: PhantomData<fn() -> M>,
 }
 
@@ -44,12 +46,18 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
 
 impl<'a, M: Rules> Whitted<'a, M> {
     /// Traces `scene` with area lights sampled as `light_sampling` says, down to
-    /// ray-tree depth `max_depth`.
-    pub fn new(scene: &'a RenderScene, light_sampling: LightSampling, max_depth: u32) -> Self {
+    /// ray-tree depth `max_depth`, rough surfaces rough unless `roughness` is false.
+    pub fn new(
+        scene: &'a RenderScene,
+        light_sampling: LightSampling,
+        max_depth: u32,
+        roughness: bool,
+    ) -> Self {
         Whitted {
             scene,
             light_sampling,
             max_depth,
+            roughness,
             rules: PhantomData,
         }
     }
@@ -166,7 +174,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         if depth >= self.max_depth {
             return Self::done(depth, color, left, rec);
         }
-        let rough = M::is_rough(m) && id.is_jittered();
+        let rough = self.roughness && M::is_rough(m) && id.is_jittered();
         let facets = if rough {
             Self::facets(m, ray.dir, n, depth, id)
         } else {
