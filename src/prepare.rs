@@ -76,10 +76,7 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
     let shutter = opts.shutter.unwrap_or(info.shutter);
     let geometry = build_geometry_for_shutter(&scene, shutter);
     drop(scene);
-    let moving = info
-        .kind_counts
-        .iter()
-        .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
+    let moving = info.has_moving_spheres();
     let lighting = Lighting::new(&info);
     let accel = Bvh::new(geometry);
     RenderScene {

@@ -501,6 +501,18 @@ impl SceneInfo {
     pub fn area_lights(&self) -> usize {
         self.lights.iter().filter(|l| l.area.is_some()).count()
     }
+
+    /// True if the scene has moving spheres.
+    pub fn has_moving_spheres(&self) -> bool {
+        self.kind_counts
+            .iter()
+            .any(|&(kind, n)| kind == "moving_spheres" && n > 0)
+    }
+
+    /// True if some material is rough.
+    pub fn has_rough_materials(&self) -> bool {
+        self.materials.iter().any(|m| m.roughness > 0.0)
+    }
 }
 
 impl Scene {

@@ -513,3 +513,107 @@ fn the_picture_fits_clicks_find_their_pixel_lens_rays_stay_put_and_bad_settings_
         browser.run("delete document.body.dataset.optionsError;");
     }
 }
+
+/// A P3F scene with what the course's later assignments add: a rough mirror sphere
+/// over a plane, and a sphere moving along x while the shutter is open.
+const EFFECTS_SCENE: &str = "bclr 0.6 0.7 0.9\nv\nfrom 0 1 6\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\n\
+resolution 160 120\nl 2 3 4 1 1 1\nf 0.9 0.3 0.2 0.3 1 1 1 0.7 30 0 1 roughness 0.4\ns -1 0 0 0.8\n\
+f 0.2 0.9 0.3 1 1 1 1 0 30 0 1\nsm 0.5 0 0 1.5 0 0 0.6 0 1\nf 0.8 0.8 0.8 1 1 1 1 0 30 0 1\npl 0 -1 0 1 -1 0 0 -1 -1\n";
+
+impl Browser {
+    /// Sets the select or field `id` to `value` as a user would, firing its change.
+    fn set(&self, id: &str, value: &str) {
+        self.run(&format!(
+            "const e = document.getElementById('{id}'); e.value = '{value}';\n\
+             e.dispatchEvent(new Event('change'));"
+        ));
+    }
+
+    /// Clicks checkbox `id`.
+    fn click(&self, id: &str) {
+        self.run(&format!("document.getElementById('{id}').click();"));
+    }
+
+    /// Waits for the next generation's converged picture; its hash and generation.
+    fn next_picture(&self, gen: u64) -> (u64, u64) {
+        self.wait_for(&format!(
+            "Number(document.body.dataset.gen) > {gen} && document.body.dataset.complete === 'true'"
+        ));
+        self.picture()
+    }
+}
+
+/// The switches of the course's later work: path tracing with its progress and a
+/// pixel's path, roughness off and on, the shutter; a shutter closing before it
+/// opens is refused and says why.
+#[test]
+fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_its_path() {
+    let Some((driver, shots, work)) = setup("effects") else {
+        return;
+    };
+    let file = work.join("effects.p3f");
+    std::fs::write(&file, EFFECTS_SCENE).unwrap();
+    let server = Server::start(&file, &["--spp", "4"]);
+    let browser = Browser::start(&driver, &work.join("profile"));
+    browser.cmd("POST", "url", json!({"url": server.url}));
+    browser.wait_for("document.body.dataset.complete === 'true'");
+    let (whitted, gen) = browser.picture();
+    for id in ["rough", "shutter-open", "shutter-close", "integrator"] {
+        let off = browser.run(&format!("return document.getElementById('{id}').disabled;"));
+        assert_eq!(off.as_bool(), Some(false), "{id} is offered");
+    }
+
+    // Path tracing: another picture, its progress in samples per second.
+    browser.set("integrator", "path");
+    let (path, gen) = browser.next_picture(gen);
+    assert_ne!(path, whitted);
+    let status = browser.run("return document.getElementById('status').innerText;");
+    let status = status.as_str().unwrap();
+    assert!(
+        status.contains("samples 4/4") && status.contains("samples/s"),
+        "{status}"
+    );
+    browser.screenshot(&shots.join("10-path-traced.png"));
+
+    // A pixel on the rough sphere: its paths, vertex by vertex, drawn over the picture.
+    assert!(browser.tree_of_pixel(48, 60).starts_with("pixel (48, 60)"));
+    let tree = browser.run("return document.getElementById('tree').innerText;");
+    let tree = tree.as_str().unwrap();
+    assert!(tree.contains("vertex 1: sphere (s) at line 11"), "{tree}");
+    assert!(tree.contains("BSDF sample"), "{tree}");
+    assert!(tree.contains("light sample at"), "{tree}");
+    let drawn = browser.run(
+        "const o = document.getElementById('overlay');\n\
+         const d = o.getContext('2d').getImageData(0, 0, o.width, o.height).data;\n\
+         let n = 0; for (let i = 3; i < d.length; i += 4) n += d[i] > 0; return n;",
+    );
+    assert!(
+        drawn.as_u64().is_some_and(|n| n > 20),
+        "paths over the picture: {drawn}"
+    );
+    browser.screenshot(&shots.join("11-path-pixel.png"));
+
+    // Roughness off: the mirror turns sharp; back on: the picture as before.
+    browser.click("rough");
+    let (smooth, gen) = browser.next_picture(gen);
+    assert_ne!(smooth, path);
+    browser.click("rough");
+    let (rough_again, gen) = browser.next_picture(gen);
+    assert_eq!(rough_again, path, "the same settings give the same picture");
+
+    // The shutter closes at 0.25: the moving sphere smears over a quarter of the way.
+    browser.type_into("shutter-close", "0.25");
+    let (short, gen) = browser.next_picture(gen);
+    assert_ne!(short, path);
+    browser.screenshot(&shots.join("12-short-shutter.png"));
+
+    // Closing before it opens: refused, saying why; nothing rendered.
+    browser.type_into("shutter-open", "0.5");
+    browser.wait_for("document.body.dataset.optionsError !== undefined");
+    let shown = browser.run("return document.getElementById('options-error').innerText;");
+    assert_eq!(
+        shown.as_str(),
+        Some("shutter: 0.5 refused, the shutter must open no later than it closes; kept 0")
+    );
+    assert_eq!(browser.picture(), (short, gen));
+}

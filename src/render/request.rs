@@ -121,10 +121,7 @@ impl RenderRequest {
             return Some("path tracing");
         }
         let aperture = self.aperture.unwrap_or(scene.view.aperture);
-        let moving = scene
-            .kind_counts
-            .iter()
-            .any(|&(kind, n)| kind == "moving_spheres" && n > 0);
+        let moving = scene.has_moving_spheres();
         let rough = !self.smooth
             && scene
                 .materials

@@ -3,6 +3,7 @@
 
 use super::protocol::{CameraMsg, OptionsMsg};
 use nffrt::math::Vec3;
+use nffrt::prepare::PrepareOptions;
 use nffrt::render::RenderRequest;
 use nffrt::scene::{Dialect, View};
 
@@ -31,7 +32,16 @@ pub fn request(options: &OptionsMsg) -> RenderRequest {
         spp: Some(options.spp.max(1)),
         aperture: (!options.lens).then_some(0.0),
         hard_shadows: !options.soft_shadows,
+        smooth: !options.rough,
+        integrator: Some(options.integrator.into()),
         ..RenderRequest::default()
+    }
+}
+
+/// What the page's settings ask of the render-time scene.
+pub fn prepare_options(options: &OptionsMsg) -> PrepareOptions {
+    PrepareOptions {
+        shutter: Some(options.shutter),
     }
 }
 
@@ -45,8 +55,10 @@ pub fn camera_block(view: &View, dialect: Dialect) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::view::protocol::IntegratorMsg;
     use nffrt::nff::{parse_format, Format, Limits};
     use nffrt::render::Sampling;
+    use nffrt::scene::Integrator;
 
     /// A view whose numbers need every digit.
     fn odd_view(base: View) -> View {
@@ -104,6 +116,9 @@ mod tests {
             spp: 1,
             lens: true,
             soft_shadows: true,
+            rough: true,
+            integrator: IntegratorMsg::Whitted,
+            shutter: [0.0, 1.0],
         };
         let scene = nffrt::Scene::default().info();
         let r = request(&o).resolve(&scene).unwrap().opts;
@@ -125,5 +140,16 @@ mod tests {
             (r.sampling, r.aperture, r.soft_shadows),
             (Sampling::Stratified { spp: 9 }, Some(0.0), false)
         );
+        assert!(r.roughness && r.integrator == Integrator::Whitted);
+        let r = request(&OptionsMsg {
+            rough: false,
+            integrator: IntegratorMsg::Path,
+            ..o
+        })
+        .resolve(&scene)
+        .unwrap()
+        .opts;
+        assert!(!r.roughness && r.integrator == Integrator::Path);
+        assert_eq!(prepare_options(&o).shutter, Some([0.0, 1.0]));
     }
 }

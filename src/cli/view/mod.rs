@@ -30,6 +30,7 @@ use clap::Args;
 use tokio::sync::broadcast;
 
 use super::limits::SceneLimitArgs;
+use super::render::IntegratorArg;
 use super::{interrupt, CliError};
 use scene::Source;
 use server::App;
@@ -53,6 +54,10 @@ pub struct ViewArgs {
     /// Samples per pixel to converge to (default: the file's `spp`, else 16).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=nffrt::limits::MAX_SPP as i64))]
     pub spp: Option<u32>,
+    /// The light transport the page starts with: `whitted` or `path` (default: the
+    /// file's P3F `integrator`, else whitted); the page can switch it.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub integrator: Option<IntegratorArg>,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: SceneLimitArgs,
@@ -101,6 +106,7 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
             args.scene.display().to_string()
         },
         spp: args.spp,
+        integrator: args.integrator.map(Into::into),
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,
         sessions: AtomicUsize::new(0),

@@ -14,9 +14,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use nffrt::limits::{eye_grid_points, MAX_DEPTH, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
+use nffrt::limits::{eye_grid_points, DEFAULT_SHUTTER, MAX_DEPTH, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
 use nffrt::render::Sampling;
-use nffrt::scene::View;
+use nffrt::scene::{Integrator, View};
 
 /// The largest text message accepted; longer ones get an error reply.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
@@ -47,8 +47,46 @@ impl CameraMsg {
     }
 }
 
-/// The render settings the page controls.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// The light transport, as the page names it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntegratorMsg {
+    /// Whitted's rules (the file's dialect's).
+    #[default]
+    Whitted,
+    /// Path tracing.
+    Path,
+}
+
+impl From<Integrator> for IntegratorMsg {
+    fn from(i: Integrator) -> IntegratorMsg {
+        match i {
+            Integrator::Whitted => IntegratorMsg::Whitted,
+            Integrator::Path => IntegratorMsg::Path,
+        }
+    }
+}
+
+impl From<IntegratorMsg> for Integrator {
+    fn from(i: IntegratorMsg) -> Integrator {
+        match i {
+            IntegratorMsg::Whitted => Integrator::Whitted,
+            IntegratorMsg::Path => Integrator::Path,
+        }
+    }
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn default_shutter() -> [f32; 2] {
+    DEFAULT_SHUTTER
+}
+
+/// The render settings the page controls. The later ones may be left out (older
+/// pages, scripts): they then mean what the file says, as far as the page can.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OptionsMsg {
     /// Picture width in pixels.
@@ -63,6 +101,17 @@ pub struct OptionsMsg {
     pub lens: bool,
     /// Area lights sampled over their surface; false: from their centre.
     pub soft_shadows: bool,
+    /// Rough materials rough (fuzzy reflection, rough refraction); false: every
+    /// surface smooth.
+    #[serde(default = "yes")]
+    pub rough: bool,
+    /// The light transport (default Whitted's).
+    #[serde(default)]
+    pub integrator: IntegratorMsg,
+    /// When the camera's shutter opens and closes, `[open, close]` (default: 0 to
+    /// 1). Moving spheres are bounded over it: a new shutter prepares the scene again.
+    #[serde(default = "default_shutter")]
+    pub shutter: [f32; 2],
 }
 
 /// A message from the page.
@@ -146,6 +195,10 @@ pub enum ServerMessage {
         has_lens: bool,
         /// True if the scene has area lights.
         has_area_lights: bool,
+        /// True if some material is rough (the roughness switch matters).
+        has_roughness: bool,
+        /// True if the scene has moving spheres (the shutter matters).
+        has_motion: bool,
         /// Seconds spent parsing and building.
         load_s: f64,
         /// What the settings may be.
@@ -286,6 +339,15 @@ fn check_options(o: &OptionsMsg) -> Result<(), String> {
     if !(1..=MAX_SPP).contains(&o.spp) {
         return Err(format!("bad options: spp {} (1 to {MAX_SPP})", o.spp));
     }
+    let [open, close] = o.shutter;
+    if !(open.is_finite() && close.is_finite() && open.abs() < 1e6 && close.abs() < 1e6) {
+        return Err("bad options: the shutter's times must be finite (and below 1e6)".into());
+    }
+    if open > close {
+        return Err(format!(
+            "bad options: the shutter closes ({close}) before it opens ({open})"
+        ));
+    }
     Ok(())
 }
 
@@ -309,6 +371,9 @@ mod tests {
                 spp: 4,
                 lens: true,
                 soft_shadows: true,
+                rough: true,
+                integrator: IntegratorMsg::Path,
+                shutter: [0.0, 0.5],
             },
         }
     }
@@ -337,6 +402,18 @@ mod tests {
     }
 
     #[test]
+    fn options_without_the_later_settings_mean_the_defaults() {
+        let text = r#"{"type":"render","camera":{"from":[0,0,5],"at":[0,0,0],"up":[0,1,0],"angle":40},
+            "options":{"width":8,"height":6,"max_depth":5,"spp":1,"lens":true,"soft_shadows":true}}"#;
+        let Ok(ClientMessage::Render { options, .. }) = parse_client_message(text) else {
+            panic!("refused")
+        };
+        assert!(options.rough);
+        assert_eq!(options.integrator, IntegratorMsg::Whitted);
+        assert_eq!(options.shutter, [0.0, 1.0]);
+    }
+
+    #[test]
     fn out_of_range_cameras_and_options_are_refused() {
         let with = |f: &dyn Fn(&mut CameraMsg, &mut OptionsMsg)| {
             let ClientMessage::Render {
@@ -357,6 +434,9 @@ mod tests {
         assert!(with(&|c, _| c.from[0] = 1e38).unwrap_err().contains("finite"));
         assert!(with(&|_, o| o.spp = 0).unwrap_err().contains("spp"));
         assert!(with(&|_, o| o.max_depth = 65).unwrap_err().contains("max_depth"));
+        assert!(with(&|_, o| o.shutter = [1.0, 0.5])
+            .unwrap_err()
+            .contains("closes (0.5) before it opens (1)"));
         assert!(with(&|_, o| o.width = MAX_RESOLUTION + 1)
             .unwrap_err()
             .contains("side"));
@@ -420,17 +500,21 @@ mod tests {
         fn render_requests_round_trip(
             v in prop::array::uniform10(finite()),
             w in 0u32..5000, h in 0u32..5000, depth in 0u32..80, spp in 0u32..5000,
-            lens: bool, soft: bool,
+            lens: bool, soft: bool, rough: bool, path: bool, shutter in prop::array::uniform2(finite()),
         ) {
             let msg = ClientMessage::Render {
                 camera: CameraMsg { from: [v[0], v[1], v[2]], at: [v[3], v[4], v[5]], up: [v[6], v[7], v[8]], angle: v[9] },
-                options: OptionsMsg { width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft },
+                options: OptionsMsg {
+                    width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft, rough,
+                    integrator: if path { IntegratorMsg::Path } else { IntegratorMsg::Whitted }, shutter,
+                },
             };
             match parse_client_message(&serde_json::to_string(&msg).unwrap()) {
                 Ok(back) => prop_assert_eq!(back, msg),
                 // (JSON has no infinities or NaN: serde_json writes them as null.)
                 Err(e) => prop_assert!(
-                    e.starts_with("bad camera") || e.starts_with("bad options") || v.iter().any(|x| !x.is_finite()),
+                    e.starts_with("bad camera") || e.starts_with("bad options")
+                        || v.iter().chain(&shutter).any(|x| !x.is_finite()),
                     "{}", e
                 ),
             }

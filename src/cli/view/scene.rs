@@ -9,7 +9,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{mpsc, Arc, RwLock};
+use std::sync::{mpsc, Arc, Mutex, RwLock};
 use std::time::{Duration, Instant};
 
 use notify::{EventKind, RecursiveMode, Watcher};
@@ -19,15 +19,23 @@ use super::protocol::Counts;
 use crate::cli::limits::SceneLimitArgs;
 use crate::cli::load::{load_scene_cancellable, Need};
 use crate::cli::CliError;
-use nffrt::prepare::{prepare, RenderScene};
+use nffrt::load::Assets;
+use nffrt::prepare::{prepare, prepare_with, PrepareOptions, RenderScene};
+use nffrt::scene::Scene;
 
 /// How long the file must stay quiet before it is read.
 pub const SETTLE: Duration = Duration::from_millis(60);
 
 /// A loaded, built scene.
 pub struct Loaded {
-    /// The scene ready to render.
-    pub scene: RenderScene,
+    /// The scene ready to render, prepared as the file says.
+    pub scene: Arc<RenderScene>,
+    /// The scene as parsed and its assets, kept to prepare it again when the page
+    /// asks for other render-time settings (a shutter), since a file may change
+    /// and standard input cannot be read twice.
+    parsed: (Scene, Assets),
+    /// The last scene prepared with other settings than the file's.
+    variant: Mutex<Option<(PrepareOptions, Arc<RenderScene>)>>,
     /// 0 for the first load, then one more for each successful reload.
     pub version: u64,
     /// What the scene holds.
@@ -36,6 +44,32 @@ pub struct Loaded {
     pub warnings: Vec<String>,
     /// Seconds spent reading, parsing and building.
     pub load_s: f64,
+}
+
+impl Loaded {
+    /// The scene prepared with `opts`: the file's own when they change nothing, else
+    /// prepared again (and kept until other settings are asked for).
+    pub fn prepared(&self, opts: &PrepareOptions) -> Arc<RenderScene> {
+        let info = self.scene.info();
+        let asked = PrepareOptions {
+            shutter: opts.shutter.filter(|&s| s != info.shutter),
+        };
+        if asked == PrepareOptions::default() {
+            return self.scene.clone();
+        }
+        let Ok(mut variant) = self.variant.lock() else {
+            return self.scene.clone();
+        };
+        match variant.as_ref() {
+            Some((made, scene)) if *made == asked => scene.clone(),
+            _ => {
+                let (scene, assets) = &self.parsed;
+                let scene = Arc::new(prepare_with(scene.clone(), assets, &asked));
+                *variant = Some((asked, scene.clone()));
+                scene
+            }
+        }
+    }
 }
 
 /// What the loader tells the sessions.
@@ -66,7 +100,8 @@ impl Source {
     pub fn load(&self, version: u64, cancel: &AtomicBool) -> Result<Loaded, CliError> {
         let t0 = Instant::now();
         let loaded = load_scene_cancellable(&self.path, &self.limits, Need::Render, cancel)?;
-        let scene = prepare(loaded.scene, &loaded.assets);
+        let parsed = (loaded.scene.clone(), loaded.assets.clone());
+        let scene = Arc::new(prepare(loaded.scene, &loaded.assets));
         let info = scene.info();
         let warnings = info.warnings.iter().map(|w| w.to_string()).collect();
         let counts = Counts {
@@ -76,6 +111,8 @@ impl Source {
         };
         Ok(Loaded {
             scene,
+            parsed,
+            variant: Mutex::new(None),
             version,
             counts,
             warnings,

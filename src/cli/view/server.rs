@@ -40,6 +40,8 @@ pub struct App {
     pub name: String,
     /// `--spp`, replacing the file's and the default target.
     pub spp: Option<u32>,
+    /// `--integrator`, replacing the file's.
+    pub integrator: Option<nffrt::scene::Integrator>,
     /// The latest good scene.
     pub scene: Current,
     /// Reloads and load errors.

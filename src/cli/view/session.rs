@@ -13,7 +13,7 @@ use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket};
 use tokio::sync::{broadcast, watch};
 
-use super::camera::{camera_block, request, view_of};
+use super::camera::{camera_block, prepare_options, request, view_of};
 use super::protocol::{
     encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
 };
@@ -173,6 +173,7 @@ impl Session {
         self.worker.submit(Job {
             gen: self.gen,
             loaded: self.loaded.clone(),
+            prepare: prepare_options(&r.options),
             view,
             opts,
             start: Instant::now(),
@@ -230,9 +231,14 @@ impl Session {
                 spp: spp.min(nffrt::limits::MAX_SPP),
                 lens: true,
                 soft_shadows: true,
+                rough: true,
+                integrator: self.app.integrator.or(info.integrator).unwrap_or_default().into(),
+                shutter: info.shutter,
             },
             has_lens: view.aperture > 0.0,
             has_area_lights: info.area_lights() > 0,
+            has_roughness: info.has_rough_materials(),
+            has_motion: info.has_moving_spheres(),
             load_s: l.load_s,
             limits: LimitsMsg::NFFRT,
         }
@@ -254,7 +260,7 @@ impl Session {
         }
         let (loaded, gen) = (self.loaded.clone(), self.gen);
         self.tracing = Some(tokio::task::spawn_blocking(move || {
-            let scene = &loaded.scene;
+            let scene = &*loaded.prepared(&prepare_options(&r.options));
             let view = view_of(scene.view(), &r.camera, &r.options);
             let opts = match request(&r.options).resolve(scene.info()) {
                 Ok(resolved) => resolved.opts,

@@ -20,6 +20,7 @@ use super::protocol::{encode_binary, FrameHeader};
 use super::scene::Loaded;
 use nffrt::image::Image;
 use nffrt::math::Vec3;
+use nffrt::prepare::PrepareOptions;
 use nffrt::render::{render_preview, Accumulator, Observer, RenderOptions};
 use nffrt::scene::View;
 
@@ -36,6 +37,8 @@ pub struct Job {
     pub gen: u64,
     /// The scene.
     pub loaded: Arc<Loaded>,
+    /// Its render-time settings (prepared again when they are not the file's).
+    pub prepare: PrepareOptions,
     /// The camera (the scene's own view with the request's position and angle).
     pub view: View,
     /// The settings.
@@ -196,7 +199,8 @@ fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool,
 
 /// Renders one generation until it converges or a newer one cancels it.
 fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>, shown: &Shown) {
-    let scene = &job.loaded.scene;
+    let prepared = job.loaded.prepared(&job.prepare);
+    let scene = &*prepared;
     let opts = &job.opts;
     let rays = AtomicU64::new(0);
     let mut watch = Watch {

@@ -13,7 +13,7 @@ const octx = overlay.getContext('2d');
 let ws = null;
 let scene = null; // the last `scene` message
 let camera = null; // {from, at, up, angle}: what the page asks for
-let options = null; // {width, height, max_depth, spp, lens, soft_shadows}
+let options = null; // {width, height, max_depth, spp, lens, soft_shadows, rough, integrator, shutter}
 let shownGen = 0; // newest generation drawn: older frames are dropped
 let frames = 0;
 let fullFrames = 0;
@@ -97,6 +97,8 @@ function onScene(msg) {
   $('warnings').replaceChildren(...w.map((t) => Object.assign(document.createElement('li'), { textContent: t })));
   $('lens').disabled = !msg.has_lens;
   $('soft').disabled = !msg.has_area_lights;
+  $('rough').disabled = !msg.has_roughness;
+  $('shutter-open').disabled = $('shutter-close').disabled = !msg.has_motion;
   const lim = msg.limits;
   for (const [id, max] of [['width', lim.max_side], ['height', lim.max_side], ['depth', lim.max_depth], ['spp', lim.max_spp]]) {
     $(id).dataset.max = max;
@@ -134,13 +136,16 @@ function onBinary(buffer) {
   body.dataset.complete = header.complete;
   const c = scene ? scene.counts : null;
   const mrays = header.rays / Math.max(header.ms, 1e-3) / 1e3;
+  // Samples per pixel per second: how fast the running average converges.
+  const rate = header.samples / Math.max(header.ms / 1e3, 1e-3);
   $('status').textContent = [
     header.stride > 1 ? `preview 1/${header.stride}` : `samples ${header.samples}/${header.target}`,
+    header.stride > 1 ? '' : `${rate < 10 ? rate.toFixed(2) : rate.toFixed(1)} samples/s`,
     `${mrays.toFixed(1)} Mrays/s`,
     `${(header.ms / 1e3).toFixed(2)} s`,
     `${header.width}×${header.height}`,
     c ? `${c.primitives} primitives, ${c.lights} lights, ${c.materials} materials` : '',
-  ].join(' · ');
+  ].filter((part) => part !== '').join(' · ');
 }
 
 // Draws a frame: full size, or a preview whose pixels stand for stride² blocks.
@@ -191,6 +196,10 @@ function showOptions() {
   for (const [id, key] of Object.entries(fields)) $(id).value = options[key];
   $('lens').checked = options.lens;
   $('soft').checked = options.soft_shadows;
+  $('rough').checked = options.rough;
+  $('integrator').value = options.integrator;
+  $('shutter-open').value = options.shutter[0];
+  $('shutter-close').value = options.shutter[1];
 }
 
 // Says why a setting was refused (and the old value kept), or clears the message.
@@ -233,6 +242,28 @@ for (const [id, key] of Object.entries(fields)) {
 }
 $('lens').addEventListener('change', () => { options = { ...options, lens: $('lens').checked }; requestRender(); });
 $('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
+$('rough').addEventListener('change', () => { options = { ...options, rough: $('rough').checked }; requestRender(); });
+$('integrator').addEventListener('change', () => { options = { ...options, integrator: $('integrator').value }; requestRender(); });
+// The shutter's two times: numbers, the first no later than the second.
+for (const [id, k] of [['shutter-open', 0], ['shutter-close', 1]]) {
+  $(id).addEventListener('change', () => {
+    if (!options) return;
+    const typed = $(id).value.trim();
+    const v = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/.test(typed) ? Number(typed) : NaN;
+    const shutter = [...options.shutter];
+    shutter[k] = v;
+    const why = !Number.isFinite(v) || Math.abs(v) >= 1e6 ? 'a number (below 1e6)'
+      : shutter[0] > shutter[1] ? 'the shutter must open no later than it closes' : null;
+    if (why) {
+      optionsError(`shutter: ${typed === '' ? 'nothing' : typed} refused, ${why}; kept ${options.shutter[k]}`);
+      $(id).value = options.shutter[k];
+      return;
+    }
+    optionsError(null);
+    options = { ...options, shutter };
+    requestRender();
+  });
+}
 $('actual').addEventListener('change', layout);
 window.addEventListener('resize', layout);
 
@@ -398,8 +429,13 @@ function rayNode(node, kinds, lights, title, open = true) {
   box.append(summary);
   const fact = (t, cls) => box.append(el('div', 'fact' + (cls ? ' ' + cls : ''), t));
   fact(`from ${fmt(node.origin)} dir ${fmt(node.dir)}`);
+  if (node.smooth_dir) {
+    const cos = Math.min(1, Math.max(-1, dot(vec(node.smooth_dir), vec(node.dir))));
+    fact(`rough: drawn ${(Math.acos(cos) * 180 / Math.PI).toFixed(2)}° from the smooth direction ${fmt(node.smooth_dir)}`);
+  }
   if (h) {
     fact(`point ${fmt(h.point)} normal ${fmt(h.normal)}`);
+    if (h.absorbed) fact(`inside the glass: ${fmt(h.absorbed)} of the light left after the way here (Beer–Lambert)`);
     const [index, m] = h.material;
     const specular = treeIsP3f ? ` specular ${fmt(m.specular)}` : '';
     fact(`material #${index}: colour ${fmt(m.color)} Kd ${num(m.kd)}${specular} Ks ${num(m.ks)} shine ${num(m.shine)} T ${num(m.t)} ior ${num(m.ior)}`);
@@ -424,6 +460,39 @@ function rayNode(node, kinds, lights, title, open = true) {
   return box;
 }
 
+// One path of the path tracer as a list of its events (src/render/path_log.rs).
+function pathNode(steps, kinds, title, open) {
+  const box = el('details');
+  box.open = open;
+  const vertices = steps.filter((s) => s.Vertex).length;
+  const escaped = steps.find((s) => s.Escape);
+  box.append(el('summary', vertices ? 'hit' : 'miss', `${title}: ${vertices} vert${vertices === 1 ? 'ex' : 'ices'}${escaped ? ', then escapes' : ''}`));
+  const fact = (t, cls) => box.append(el('div', 'fact' + (cls ? ' ' + cls : ''), t));
+  const w = (x) => num(x);
+  let n = 0;
+  for (const step of steps) {
+    const [kind, e] = Object.entries(step)[0];
+    if (kind === 'Vertex') {
+      n += 1;
+      fact(`vertex ${n}: ${kinds[e.kind] || e.kind} at line ${e.line}, material #${e.material}, t = ${e.t.toFixed(4)}, ${e.entering ? 'entering' : 'leaving'}; point ${fmt(e.point)} normal ${fmt(e.normal)}; throughput ${fmt(e.throughput)}`, 'value');
+    } else if (kind === 'Emitted') {
+      fact(`emits ${fmt(e.radiance)}, MIS weight ${w(e.weight)}`, 'lit');
+    } else if (kind === 'Light') {
+      fact(e.blocked
+        ? `light sample at ${fmt(e.point)}: blocked`
+        : `light sample at ${fmt(e.point)}: adds ${fmt(e.contribution)}, MIS weight ${w(e.weight)}`, e.blocked ? 'shadowed' : 'lit');
+    } else if (kind === 'Bsdf') {
+      const how = e.delta ? 'specular' : `pdf ${w(e.pdf)}`;
+      fact(`BSDF sample: ${e.transmitted ? 'through' : 'off'} the surface, dir ${fmt(e.dir)}, f·cos/pdf ${fmt(e.weight)} (${how}); throughput ${fmt(e.throughput)}`);
+    } else if (kind === 'Escape') {
+      fact(`escapes along ${fmt(e.dir)}: sees ${fmt(e.radiance)} with throughput ${fmt(e.throughput)}`);
+    } else {
+      fact(`${kind}: ${JSON.stringify(e)}`);
+    }
+  }
+  return box;
+}
+
 function showTree(msg) {
   const t = msg.trace;
   treeIsP3f = t.dialect !== 'Nff';
@@ -440,9 +509,13 @@ function showTree(msg) {
   t.samples.forEach(([sample, node], k) => {
     const raster = sample.raster;
     const lens = t.lens ? `, lens (${sample.lens[0].toFixed(3)}, ${sample.lens[1].toFixed(3)})` : '';
-    const title = `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0].toFixed(3)}, ${raster[1].toFixed(3)})${lens}`;
-    // The first eye ray open, the others folded.
-    tree.append(rayNode(node, msg.kinds, t.lights, title, k === 0));
+    const time = t.motion ? `, time ${sample.time.toFixed(3)} of the shutter` : '';
+    const title = `eye ray ${k + 1} of ${t.samples.length} through raster (${raster[0].toFixed(3)}, ${raster[1].toFixed(3)})${lens}${time}`;
+    // The first eye ray open, the others folded. A path tracer's trace is a list of
+    // the path's events, Whitted's a tree.
+    tree.append(Array.isArray(node)
+      ? pathNode(node, msg.kinds, title, k === 0)
+      : rayNode(node, msg.kinds, t.lights, title, k === 0));
   });
   $('tree-hint').hidden = true;
   lastTree = msg;
@@ -512,10 +585,31 @@ function drawRays() {
     });
     for (const [kind, , child] of node.hit.children) walk(child, kind === 'Refraction' ? '#e040fb' : '#4dd0e1', false);
   };
+  // A path: a dot at its first vertex, segments between the later ones (cyan off
+  // a surface, magenta through it), dashed light samples (green lit, red blocked).
+  const walkPath = (steps) => {
+    let last = null, through = false;
+    for (const step of steps) {
+      const [kind, e] = Object.entries(step)[0];
+      if (kind === 'Vertex') {
+        const p = vec(e.point);
+        if (last) segment(last, p, through ? '#e040fb' : '#4dd0e1');
+        else mark(p, '#ffd54f');
+        last = p;
+      } else if (kind === 'Bsdf') {
+        through = e.transmitted;
+      } else if (kind === 'Light' && last) {
+        segment(last, vec(e.point), e.blocked ? '#ff8a80' : '#a5d6a7', [3, 3]);
+      } else if (kind === 'Escape' && last) {
+        segment(last, add(last, mul(vec(e.dir), far)), through ? '#e040fb' : '#4dd0e1');
+      }
+    }
+  };
   octx.lineWidth = Math.max(1.5, W / 400);
   for (const [sample, node] of msg.trace.samples) {
     const raster = sample.raster;
-    walk(node, '#ffd54f', true);
+    if (Array.isArray(node)) walkPath(node);
+    else walk(node, '#ffd54f', true);
     if (!sameView) continue;
     octx.setLineDash([]);
     octx.strokeStyle = '#ffd54f';
