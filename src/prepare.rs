@@ -21,7 +21,7 @@
 
 use thiserror::Error;
 
-use crate::accel::Bvh;
+use crate::accel::{Aggregate, Bvh};
 use crate::geometry::{build_geometry_for_shutter, Primitive};
 use crate::image::{Image, Region};
 use crate::load::Assets;
@@ -29,7 +29,7 @@ use crate::render::emitters::Emitters;
 use crate::render::{
     check_options, render_region, Background, Lighting, Observer, RenderOptions, Silent, Stats,
 };
-use crate::scene::{Material, Scene, SceneInfo, View};
+use crate::scene::{Accel, Material, Scene, SceneInfo, View};
 
 /// Why a render did not run to the end.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -45,7 +45,7 @@ pub enum RenderError {
 /// A scene ready to render (see the module docs).
 pub struct RenderScene {
     info: SceneInfo,
-    accel: Bvh,
+    accel: Aggregate,
     lighting: Lighting,
     background: Background,
     shutter: [f32; 2],
@@ -62,6 +62,8 @@ pub struct PrepareOptions {
     /// default: the file's `shutter`, else [`crate::limits::DEFAULT_SHUTTER`]).
     /// Moving geometry is bounded over it.
     pub shutter: Option<[f32; 2]>,
+    /// The acceleration structure (default: the file's `accel`, else the BVH).
+    pub accel: Option<Accel>,
 }
 
 /// Prepares `scene` with the files it names, `assets` (its skybox, if decoded), as
@@ -78,9 +80,12 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
     drop(scene);
     let moving = info.has_moving_spheres();
     let lighting = Lighting::new(&info);
-    let accel = Bvh::new(geometry);
+    let accel = Aggregate::new(
+        Bvh::new(geometry),
+        opts.accel.or(info.accel).unwrap_or(Accel::Bvh),
+    );
     RenderScene {
-        emitters: Emitters::new(&lighting.lights, &accel, &info.materials),
+        emitters: Emitters::new(&lighting.lights, accel.bvh(), &info.materials),
         lighting,
         background: Background::new(info.background, assets.skybox.clone()),
         accel,
@@ -113,7 +118,7 @@ impl RenderScene {
     }
 
     /// The acceleration structure.
-    pub fn accel(&self) -> &Bvh {
+    pub fn accel(&self) -> &Aggregate {
         &self.accel
     }
 

@@ -335,9 +335,10 @@ pub struct MeshTriangle {
     pub line: u32,
 }
 
-/// The acceleration structure a P3F file asks for (`accel`); nffrt always builds its
-/// BVH and reports the request.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+/// The acceleration structure a render uses: what a P3F file asks for (`accel`),
+/// `--accel`, [`crate::prepare::PrepareOptions::accel`]. All three give the same
+/// pictures (see [`crate::accel::Aggregate`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// `accel none`

@@ -545,7 +545,7 @@ impl Browser {
 
 /// The switches of the course's later work: path tracing with its progress and a
 /// pixel's path, roughness off and on, the shutter; a shutter closing before it
-/// opens is refused and says why.
+/// opens is refused and says why; the grid and no acceleration give the BVH's picture.
 #[test]
 fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_its_path() {
     let Some((driver, shots, work)) = setup("effects") else {
@@ -558,7 +558,7 @@ fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_it
     browser.cmd("POST", "url", json!({"url": server.url}));
     browser.wait_for("document.body.dataset.complete === 'true'");
     let (whitted, gen) = browser.picture();
-    for id in ["rough", "shutter-open", "shutter-close", "integrator"] {
+    for id in ["rough", "shutter-open", "shutter-close", "integrator", "accel"] {
         let off = browser.run(&format!("return document.getElementById('{id}').disabled;"));
         assert_eq!(off.as_bool(), Some(false), "{id} is offered");
     }
@@ -615,5 +615,13 @@ fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_it
         shown.as_str(),
         Some("shutter: 0.5 refused, the shutter must open no later than it closes; kept 0")
     );
-    assert_eq!(browser.picture(), (short, gen));
+    assert_eq!(browser.picture(), (short.clone(), gen));
+
+    // Another acceleration structure: a new render, the same picture.
+    browser.set("accel", "grid");
+    let (grid, gen) = browser.next_picture(gen);
+    assert!(grid == short, "the grid renders the BVH's picture");
+    browser.set("accel", "none");
+    let (none, _) = browser.next_picture(gen);
+    assert!(none == short, "the scan renders the BVH's picture");
 }

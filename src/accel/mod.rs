@@ -16,6 +16,11 @@
 //!
 //! `bvh.rs` holds the structure and puts the stages together; `check.rs` validates it
 //! and measures it.
+//!
+//! Beside the BVH, for the course's comparison of structures (`--accel`): a uniform
+//! grid (`grid`), a scan of every primitive (`linear`), and the choice between the
+//! three (`aggregate`), whose queries the renderer calls; `tally` counts a query's
+//! work when asked.
 
 /// Traversal counters (feature `counters`): wide nodes visited, primitives tested.
 #[cfg(feature = "counters")]
@@ -39,15 +44,22 @@ macro_rules! count {
     };
 }
 
+mod aggregate;
 mod build;
 mod bvh;
 mod check;
+mod grid;
 mod leaf;
+mod linear;
+mod tally;
 mod traverse;
 
+pub use aggregate::Aggregate;
 pub use build::node::BvhNode;
 pub use bvh::Bvh;
 pub use check::BvhStats;
+pub use grid::{Grid, MAX_CELLS_PER_AXIS};
+pub use tally::{QueryCounts, Tally};
 pub use traverse::occlusion::NO_HINT;
 pub use traverse::packet::PACKET;
 pub use traverse::wide::Node8;

@@ -1,5 +1,7 @@
 //! `nffrt bench`: times the acceleration structure alone (no shading) on primary,
-//! random and file-supplied rays, for comparison with other ray tracing kernels.
+//! random and file-supplied rays, for comparison with other ray tracing kernels; with
+//! `--accel all`, the BVH, the uniform grid and the scan of every primitive side by
+//! side, with the work each does per ray.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,11 +14,12 @@ use super::load::{load_scene, Need};
 use super::output::brief;
 use super::values::whole_number;
 use super::CliError;
-use nffrt::accel::{Bvh, PACKET};
+use nffrt::accel::{Aggregate, Bvh, QueryCounts, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::limits::MAX_THREADS;
 use nffrt::math::{Ray, Vec3};
 use nffrt::render::{Camera, RenderOptions, Sampling};
+use nffrt::scene::Accel;
 use nffrt::words::count;
 
 /// Arguments of `nffrt bench`.
@@ -51,10 +54,53 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true,
           value_parser = whole_number::<u64>(0, u64::MAX))]
     pub seed: u64,
+    /// The acceleration structure to time: `bvh` (with packets), `grid`, `none` (every
+    /// primitive tested for every ray: slow on big scenes, try a small --random) or
+    /// `all` (the three side by side, with nodes or cells visited and primitives tested
+    /// per ray).
+    #[arg(long, value_enum, value_name = "NAME", default_value = "bvh")]
+    pub accel: BenchAccel,
     /// Resource limits (see "Limits" in docs/command-line.md); the primary and random ray sets
     /// count as pixels.
     #[command(flatten)]
     pub limits: RenderLimitArgs,
+}
+
+/// The values of `nffrt bench --accel`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BenchAccel {
+    /// Every primitive tested for every ray.
+    None,
+    /// A uniform grid.
+    Grid,
+    /// The bounding volume hierarchy.
+    Bvh,
+    /// The three, side by side.
+    All,
+}
+
+impl BenchAccel {
+    /// The structures to time, in the order they are printed.
+    fn structures(self) -> Vec<Accel> {
+        match self {
+            BenchAccel::None => vec![Accel::None],
+            BenchAccel::Grid => vec![Accel::Grid],
+            BenchAccel::Bvh => vec![Accel::Bvh],
+            BenchAccel::All => vec![Accel::Bvh, Accel::Grid, Accel::None],
+        }
+    }
+}
+
+/// The most rays of a set whose work per ray is counted.
+const COUNTED_RAYS: usize = 4096;
+
+/// One row of the side-by-side table.
+struct Row {
+    structure: String,
+    set: &'static str,
+    closest_mrays: f64,
+    occlusion_mrays: f64,
+    per_ray: (f64, f64),
 }
 
 /// Median and best timing of one query over one ray set.
@@ -127,24 +173,78 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     if let Some(rays) = file_rays {
         sets.push(("rays", rays));
     }
-    for (name, rays) in &sets {
-        #[cfg(feature = "counters")]
-        print_counts(&bvh, name, rays);
-        let closest = time_query(&pool, rays, args.repeat, |r| {
-            bvh.closest_hit(r, f32::INFINITY).is_some()
-        });
-        let occl = time_query(&pool, rays, args.repeat, |r| bvh.occluded(r, f32::INFINITY));
-        let packets = time_packets(&pool, rays, args.repeat, &bvh);
-        outln!(
-            "{name:>8}: {}, {}; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
-            count(rays.len(), "ray", "rays"),
-            count(closest.hits, "hit", "hits"),
-            closest.median_mrays,
-            closest.best_mrays,
-            occl.median_mrays,
-            occl.best_mrays,
-            occl.hits
-        );
+    let mut rows = Vec::new();
+    for kind in args.accel.structures() {
+        let t0 = Instant::now();
+        let structure = Aggregate::new(bvh.clone(), kind);
+        let extra_build_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let label = match structure.grid() {
+            Some(g) => {
+                let [x, y, z] = g.cells();
+                format!("grid {x}x{y}x{z}")
+            }
+            None => structure_name(kind).to_string(),
+        };
+        if kind != Accel::Bvh {
+            outln!("{label}: built in {extra_build_ms:.2} ms more (over the BVH's primitive order)");
+        }
+        for (name, rays) in &sets {
+            let row = time_structure(&pool, &structure, &label, name, rays, args.repeat, &mut summary)?;
+            rows.push(row);
+        }
+    }
+    if rows.len() > 3 || args.accel == BenchAccel::All {
+        print_table(&rows);
+    }
+    summary.push(format!("threads={}", args.threads));
+    outln!("{}", summary.join(" "));
+    Ok(())
+}
+
+/// Times closest-hit and occlusion queries of `structure` on `rays` (and packets, for
+/// the BVH), prints them, counts the work per ray, and adds the figures to `summary`
+/// (the BVH's keys unprefixed, as before the other structures existed).
+fn time_structure(
+    pool: &rayon::ThreadPool,
+    structure: &Aggregate,
+    label: &str,
+    name: &'static str,
+    rays: &[Ray],
+    repeat: u32,
+    summary: &mut Vec<String>,
+) -> Result<Row, CliError> {
+    let kind = structure.kind();
+    #[cfg(feature = "counters")]
+    if kind == Accel::Bvh {
+        print_counts(structure.bvh(), name, rays);
+    }
+    let per_ray = counted(structure, rays);
+    let closest = time_query(pool, rays, repeat, |r| {
+        structure.closest_hit(r, f32::INFINITY).is_some()
+    });
+    let occl = time_query(pool, rays, repeat, |r| structure.occluded(r, f32::INFINITY));
+    let prefix = if kind == Accel::Bvh {
+        String::new()
+    } else {
+        format!("{}_", structure_name(kind))
+    };
+    outln!(
+        "{name:>8}: {}{}, {}; closest hit {:.2} Mrays/s (best {:.2}); occlusion {:.2} Mrays/s (best {:.2}), {} occluded",
+        if kind == Accel::Bvh { String::new() } else { format!("{label}, ") },
+        count(rays.len(), "ray", "rays"),
+        count(closest.hits, "hit", "hits"),
+        closest.median_mrays,
+        closest.best_mrays,
+        occl.median_mrays,
+        occl.best_mrays,
+        occl.hits
+    );
+    summary.push(format!("{prefix}{name}_mrays={:.3}", closest.median_mrays));
+    summary.push(format!("{prefix}{name}_occl_mrays={:.3}", occl.median_mrays));
+    summary.push(format!("{prefix}{name}_best_mrays={:.3}", closest.best_mrays));
+    summary.push(format!("{prefix}{name}_occl_best_mrays={:.3}", occl.best_mrays));
+    if kind == Accel::Bvh {
+        let packets = time_packets(pool, rays, repeat, structure.bvh());
         outln!(
             "{:>8}  packets of {PACKET} consecutive rays: closest hit {:.2} Mrays/s (best {:.2}), {}",
             "",
@@ -158,16 +258,62 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
                 packets.hits, closest.hits
             )));
         }
-        summary.push(format!("{name}_mrays={:.3}", closest.median_mrays));
-        summary.push(format!("{name}_occl_mrays={:.3}", occl.median_mrays));
-        summary.push(format!("{name}_best_mrays={:.3}", closest.best_mrays));
-        summary.push(format!("{name}_occl_best_mrays={:.3}", occl.best_mrays));
         summary.push(format!("{name}_packet_mrays={:.3}", packets.median_mrays));
-        summary.push(format!("{name}_hits={}", closest.hits));
     }
-    summary.push(format!("threads={}", args.threads));
-    outln!("{}", summary.join(" "));
-    Ok(())
+    summary.push(format!("{prefix}{name}_hits={}", closest.hits));
+    Ok(Row {
+        structure: label.to_string(),
+        set: name,
+        closest_mrays: closest.median_mrays,
+        occlusion_mrays: occl.median_mrays,
+        per_ray,
+    })
+}
+
+/// Nodes or cells visited and primitives tested per closest-hit query, over at most
+/// [`COUNTED_RAYS`] rays spread evenly over `rays`.
+fn counted(structure: &Aggregate, rays: &[Ray]) -> (f64, f64) {
+    let step = rays.len().div_ceil(COUNTED_RAYS).max(1);
+    let mut counts = QueryCounts::default();
+    let mut n = 0;
+    for r in rays.iter().step_by(step) {
+        structure.closest_hit_counted(r, f32::INFINITY, &mut counts);
+        n += 1;
+    }
+    let n = n.max(1) as f64;
+    (counts.nodes as f64 / n, counts.prims as f64 / n)
+}
+
+/// The structures side by side.
+fn print_table(rows: &[Row]) {
+    outln!(
+        "{:<16} {:>8} {:>16} {:>18} {:>15} {:>15}",
+        "structure",
+        "rays",
+        "closest Mrays/s",
+        "occlusion Mrays/s",
+        "nodes|cells/ray",
+        "prim tests/ray"
+    );
+    for r in rows {
+        outln!(
+            "{:<16} {:>8} {:>16.2} {:>18.2} {:>15.1} {:>15.1}",
+            r.structure,
+            r.set,
+            r.closest_mrays,
+            r.occlusion_mrays,
+            r.per_ray.0,
+            r.per_ray.1
+        );
+    }
+}
+
+fn structure_name(kind: Accel) -> &'static str {
+    match kind {
+        Accel::None => "none",
+        Accel::Grid => "grid",
+        Accel::Bvh => "bvh",
+    }
 }
 
 fn median(v: &mut [f64]) -> f64 {

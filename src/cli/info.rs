@@ -91,9 +91,9 @@ struct InfoJson {
     /// `nff`, `p3f-2019` or `p3f-2025`.
     dialect: &'static str,
     camera: CameraJson,
-    /// P3F `accel` as written, if any.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    accel: Option<Accel>,
+    /// The acceleration structure a render uses without `--accel`: the P3F file's
+    /// `accel`, else `bvh`.
+    accel: Accel,
     /// P3F `spp`, if given.
     #[serde(skip_serializing_if = "Option::is_none")]
     spp: Option<u32>,
@@ -148,7 +148,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             scene: loaded.name.clone(),
             dialect: s.dialect.name(),
             camera: CameraJson::of(&s.view),
-            accel: s.accel,
+            accel: s.accel.unwrap_or(Accel::Bvh),
             spp: s.spp,
             integrator: s.integrator,
             shutter: s.shutter_interval(),
@@ -200,11 +200,12 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         v.angle
     );
     outln!("format      {}", s.dialect.name());
-    if let Some(a) = s.accel {
-        outln!(
-            "accel       {} (as the file asks; nffrt builds its BVH)",
+    match s.accel {
+        Some(a) => outln!(
+            "accel       {} (as the file asks; --accel chooses another)",
             accel_name(a)
-        );
+        ),
+        None => outln!("accel       bvh (the default; --accel chooses another)"),
     }
     if let Some(n) = s.spp {
         outln!(

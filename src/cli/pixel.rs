@@ -5,9 +5,9 @@
 use std::io::Write;
 
 use super::load::{load_scene, print_warnings, Need};
-use super::render::{resolve, RenderArgs};
+use super::render::{prepare_options, resolve, RenderArgs};
 use super::CliError;
-use nffrt::prepare::prepare;
+use nffrt::prepare::prepare_with;
 use nffrt::render::debug::trace_pixel;
 
 /// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`
@@ -25,7 +25,7 @@ pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
             opts.height - 1
         )));
     }
-    let scene = prepare(loaded.scene, &loaded.assets);
+    let scene = prepare_with(loaded.scene, &loaded.assets, &prepare_options(args));
     let trace = trace_pixel(&scene, scene.view(), &opts, x, y);
     let mut out = std::io::stdout().lock();
     match write!(out, "{trace}").and_then(|()| out.flush()) {

@@ -19,9 +19,9 @@ use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
-use nffrt::prepare::prepare;
+use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::{region_eye_rows, render_region, RenderOptions, RenderRequest, Resolved};
-use nffrt::scene::{Integrator, SceneInfo};
+use nffrt::scene::{Accel, Integrator, SceneInfo};
 use nffrt::words::count;
 
 /// Arguments of `nffrt render`.
@@ -90,6 +90,11 @@ pub struct RenderArgs {
     /// the file's P3F `integrator`, else whitted.
     #[arg(long, value_enum, value_name = "NAME")]
     pub integrator: Option<IntegratorArg>,
+    /// The acceleration structure: `bvh`, `grid` (uniform) or `none` (every primitive
+    /// tested for every ray). All three give the same picture; --stats shows the
+    /// work each does. Default: the file's P3F `accel`, else bvh.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub accel: Option<AccelArg>,
     /// Render only the crop X0,Y0,X1,Y1 (X1, Y1 exclusive) of the full image, as a PNG
     /// tile that records its place and a fingerprint of the scene and settings;
     /// `nffrt merge` assembles tiles.
@@ -182,6 +187,35 @@ impl From<IntegratorArg> for Integrator {
     }
 }
 
+/// The values of `--accel`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AccelArg {
+    /// Every primitive tested for every ray.
+    None,
+    /// A uniform grid.
+    Grid,
+    /// The bounding volume hierarchy.
+    Bvh,
+}
+
+impl From<AccelArg> for Accel {
+    fn from(a: AccelArg) -> Accel {
+        match a {
+            AccelArg::None => Accel::None,
+            AccelArg::Grid => Accel::Grid,
+            AccelArg::Bvh => Accel::Bvh,
+        }
+    }
+}
+
+/// What `args` ask of the render-time scene.
+pub fn prepare_options(args: &RenderArgs) -> PrepareOptions {
+    PrepareOptions {
+        accel: args.accel.map(Into::into),
+        ..PrepareOptions::default()
+    }
+}
+
 /// What `args` ask of the render.
 pub fn request(args: &RenderArgs) -> RenderRequest {
     RenderRequest {
@@ -269,7 +303,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 
     let t1 = Instant::now();
     let skybox = loaded.assets.skybox.is_some();
-    let scene = pool.install(|| prepare(loaded.scene, &loaded.assets));
+    let scene = pool.install(|| prepare_with(loaded.scene, &loaded.assets, &prepare_options(&args)));
     let build_s = t1.elapsed().as_secs_f64();
     interrupt::check()?;
     let t2 = Instant::now();
@@ -287,9 +321,12 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     output.write_image(&image, format, encoding, &text)?;
 
+    let wants_stats = args.stats || args.stats_json.is_some();
+    let accel = wants_stats.then(|| pool.install(|| stats::accel_work(&scene, &opts, &region)));
     let report = StatsReport::new(
         stats::settings(&opts, &region, threads, &info, skybox),
         scene.primitive_count(),
+        accel,
         rays,
         [load_s, loaded.parse_s, build_s, render_s],
     );

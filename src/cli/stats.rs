@@ -8,9 +8,11 @@ use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use nffrt::accel::QueryCounts;
 use nffrt::image::Region;
-use nffrt::render::{RenderOptions, Sampling, Stats};
-use nffrt::scene::SceneInfo;
+use nffrt::prepare::RenderScene;
+use nffrt::render::{Camera, RenderOptions, Sampling, Stats};
+use nffrt::scene::{Accel, SceneInfo};
 use nffrt::words::shortest_f64;
 
 /// The settings of a render, in report order: `(JSON key, value)`; the text report
@@ -84,6 +86,80 @@ pub fn settings(
     ])
 }
 
+/// The most camera rays [`accel_work`] traces.
+const ACCEL_SAMPLE_SIDE: u32 = 64;
+
+/// What the acceleration structure of a render is and how much work it does per ray.
+#[derive(Clone, Debug, Serialize)]
+pub struct AccelWork {
+    /// `bvh`, `grid` or `none`.
+    pub accel: Accel,
+    /// The grid's cells along x, y and z (a grid only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub grid_cells: Option<[usize; 3]>,
+    /// The camera rays measured.
+    pub measured_rays: usize,
+    /// Per measured ray: wide BVH nodes or grid cells visited.
+    pub nodes_per_ray: f64,
+    /// Per measured ray: primitives tested.
+    pub primitive_tests_per_ray: f64,
+}
+
+/// The structure `scene` renders with and its work per closest-hit query, measured
+/// apart from the render (which counts nothing, for speed) on the camera rays through
+/// the pixel centres of `region` in `opts`'s picture, at most
+/// [`ACCEL_SAMPLE_SIDE`]² of them spread evenly over it.
+pub fn accel_work(scene: &RenderScene, opts: &RenderOptions, region: &Region) -> AccelWork {
+    let camera = Camera::new(scene.view(), opts);
+    let pick = |from: u32, to: u32| {
+        let n = (to - from).min(ACCEL_SAMPLE_SIDE);
+        (0..n).map(move |k| from + ((to - from) as u64 * k as u64 / n as u64) as u32)
+    };
+    let mut counts = QueryCounts::default();
+    let mut measured = 0usize;
+    for y in pick(region.y0, region.y1) {
+        for x in pick(region.x0, region.x1) {
+            let ray = camera.ray_at(x as f32 + 0.5, y as f32 + 0.5);
+            scene
+                .accel()
+                .closest_hit_counted(&ray, f32::INFINITY, &mut counts);
+            measured += 1;
+        }
+    }
+    let per_ray = |n: u64| n as f64 / measured.max(1) as f64;
+    AccelWork {
+        accel: scene.accel().kind(),
+        grid_cells: scene.accel().grid().map(|g| g.cells()),
+        measured_rays: measured,
+        nodes_per_ray: per_ray(counts.nodes),
+        primitive_tests_per_ray: per_ray(counts.prims),
+    }
+}
+
+impl AccelWork {
+    /// The structure in words: `bvh`, `none`, `grid 40x30x20`.
+    pub fn structure(&self) -> String {
+        match (self.accel, self.grid_cells) {
+            (_, Some([x, y, z])) => format!("grid {x}x{y}x{z}"),
+            (Accel::None, _) => "none".into(),
+            _ => "bvh".into(),
+        }
+    }
+
+    /// The work per measured ray in words.
+    fn per_ray_text(&self) -> String {
+        let visited = match self.accel {
+            Accel::Bvh => format!("{:.1} nodes visited, ", self.nodes_per_ray),
+            Accel::Grid => format!("{:.1} cells visited, ", self.nodes_per_ray),
+            Accel::None => String::new(),
+        };
+        format!(
+            "{visited}{:.1} primitive tests ({} rays through pixel centres)",
+            self.primitive_tests_per_ray, self.measured_rays
+        )
+    }
+}
+
 /// Everything `--stats` and `--stats-json` report. The JSON keys: the settings', then
 /// `primitives`, the ray counts of [`Stats`], `total_rays`, the timings in seconds and
 /// `mrays_per_s` (all rays over the render time).
@@ -94,6 +170,10 @@ pub struct StatsReport {
     pub settings: Settings,
     /// Primitives in the BVH (polygons counted as the triangles they are cut into).
     pub primitives: usize,
+    /// The acceleration structure and its work per camera ray (measured when a
+    /// report is asked for).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accel: Option<AccelWork>,
     /// Ray counts.
     #[serde(flatten)]
     pub rays: Stats,
@@ -113,11 +193,18 @@ pub struct StatsReport {
 
 impl StatsReport {
     /// The report of a render that traced `rays` in `render_s` seconds.
-    pub fn new(settings: Settings, primitives: usize, rays: Stats, times: [f64; 4]) -> Self {
+    pub fn new(
+        settings: Settings,
+        primitives: usize,
+        accel: Option<AccelWork>,
+        rays: Stats,
+        times: [f64; 4],
+    ) -> Self {
         let [load_s, parse_s, build_s, render_s] = times;
         StatsReport {
             settings,
             primitives,
+            accel,
             rays,
             total_rays: rays.total_rays(),
             load_s,
@@ -142,8 +229,14 @@ impl StatsReport {
             .iter()
             .map(|(key, value)| line(&key.replace('_', " "), &value_text(value)))
             .collect();
+        lines.extend([line("primitives", &self.primitives.to_string())]);
+        if let Some(a) = &self.accel {
+            lines.extend([
+                line("accel", &a.structure()),
+                line("per camera ray", &a.per_ray_text()),
+            ]);
+        }
         lines.extend([
-            line("primitives", &self.primitives.to_string()),
             line("eye rays", &format!("{} ({} hit)", s.eye_rays, s.eye_hits)),
             line("reflection rays", &s.reflection_rays.to_string()),
             line("refraction rays", &s.refraction_rays.to_string()),
@@ -196,9 +289,17 @@ mod tests {
             eye_rays: 100,
             ..Stats::default()
         };
+        let accel = AccelWork {
+            accel: Accel::Grid,
+            grid_cells: Some([4, 5, 6]),
+            measured_rays: 16,
+            nodes_per_ray: 2.5,
+            primitive_tests_per_ray: 3.25,
+        };
         let report = StatsReport::new(
             settings(&opts, &region, 2, &nffrt::Scene::default().info(), false),
             1,
+            Some(accel),
             rays,
             [0.0, 0.0, 0.0, 1.0],
         );
@@ -209,6 +310,8 @@ mod tests {
             "sampling           stratified",
             "samples per pixel  4",
             "eye rays           100 (0 hit)",
+            "accel              grid 4x5x6",
+            "per camera ray     2.5 cells visited, 3.2 primitive tests (16 rays",
         ] {
             assert!(text.contains(want), "{want:?} in\n{text}");
         }
@@ -221,5 +324,7 @@ mod tests {
         assert_eq!(json["samples_per_pixel"], 4);
         assert_eq!(json["eye_rays"], 100);
         assert_eq!(json["total_rays"], 100);
+        assert_eq!(json["accel"]["accel"], "grid");
+        assert_eq!(json["accel"]["grid_cells"], json!([4, 5, 6]));
     }
 }

@@ -222,7 +222,7 @@ impl PathTracer<'_> {
             return Vec3::ZERO;
         };
         let u = id.point(Dim::LightPoint { depth });
-        let Some(light) = emitters.sample(emitter, pmf, self.scene.accel(), at.sides[0], u) else {
+        let Some(light) = emitters.sample(emitter, pmf, self.scene.accel().bvh(), at.sides[0], u) else {
             return Vec3::ZERO;
         };
         let wi_world = (light.point - at.sides[0]).normalize();

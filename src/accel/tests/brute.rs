@@ -357,7 +357,7 @@ fn assert_portable_copy<const KINDS: u32>(
 ) {
     use crate::accel::traverse::wide::Portable;
     assert_eq!(
-        bvh.closest_hit_with::<_, KINDS>(Portable, r, f32::INFINITY),
+        bvh.closest_hit_with::<_, KINDS, _>(Portable, r, f32::INFINITY, &mut ()),
         closest
     );
     for (&t_max, &any) in [2.0, 10.0, f32::INFINITY].iter().zip(occluded) {

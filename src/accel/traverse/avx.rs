@@ -75,7 +75,7 @@ impl Avx {
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
 fn closest_hit_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
-    with_kinds!(bvh.kinds, K => bvh.closest_hit_with::<_, K>(avx, ray, t_max))
+    with_kinds!(bvh.kinds, K => bvh.closest_hit_with::<_, K, _>(avx, ray, t_max, &mut ()))
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]

@@ -354,13 +354,14 @@ impl Bvh {
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest::<S, { leaf_kinds::ALL }>(
+                        self.leaf_closest::<S, { leaf_kinds::ALL }, ()>(
                             kernels,
                             first,
                             count,
                             &rays[k],
                             &single.ray4[k],
                             &mut nearest[k],
+                            &mut (),
                         );
                         limits[k] = nearest[k].limit;
                     }
@@ -400,13 +401,14 @@ impl Bvh {
                         while each != 0 {
                             let k = each.trailing_zeros() as usize;
                             each &= each - 1;
-                            self.walk_closest::<S, { leaf_kinds::ALL }>(
+                            self.walk_closest::<S, { leaf_kinds::ALL }, ()>(
                                 kernels,
                                 e.node,
                                 &rays[k],
                                 &single.boxes[k],
                                 &single.ray4[k],
                                 &mut nearest[k],
+                                &mut (),
                             );
                             limits[k] = nearest[k].limit;
                         }

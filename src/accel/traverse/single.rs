@@ -9,6 +9,7 @@ use super::wide::{Kernels, Portable, RayBoxes, WIDTH};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, marked, with_kinds, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
 use crate::accel::leaf::tri4::{nearest_lane, Block, Ray4, Tri4, LANES};
+use crate::accel::tally::{QueryCounts, Tally};
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -48,31 +49,34 @@ impl Bvh {
         if let Some(avx) = self.avx {
             return avx.closest_hit(self, ray, t_max);
         }
-        with_kinds!(self.kinds, K => self.closest_hit_with::<_, K>(Portable, ray, t_max))
+        with_kinds!(self.kinds, K => self.closest_hit_with::<_, K, _>(Portable, ray, t_max, &mut ()))
+    }
+
+    /// [`Bvh::closest_hit`] counting the nodes it visits and the primitives it tests
+    /// into `tally` (the portable kernels: the same answer, the same walk).
+    pub fn closest_hit_counted(&self, ray: &Ray, t_max: f32, tally: &mut QueryCounts) -> Option<(Hit, u32)> {
+        with_kinds!(self.kinds, K => self.closest_hit_with::<_, K, _>(Portable, ray, t_max, tally))
     }
 
     /// [`Bvh::closest_hit`] with the slab test `kernels` (inlined into each caller, so
     /// that an AVX caller compiles all of it for AVX), for trees whose leaves are of the
     /// kinds `KINDS` (see [`Bvh::kinds`]).
     #[inline(always)]
-    pub(in crate::accel) fn closest_hit_with<S: Kernels, const KINDS: u32>(
+    pub(in crate::accel) fn closest_hit_with<S: Kernels, const KINDS: u32, T: Tally>(
         &self,
         kernels: S,
         ray: &Ray,
         t_max: f32,
+        tally: &mut T,
     ) -> Option<(Hit, u32)> {
         let mut nearest = Nearest::new(t_max);
-        for (i, p) in self.primitives[self.bounded..].iter().enumerate() {
-            if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
-                nearest.offer(h, (self.bounded + i) as u32);
-            }
-        }
+        self.unbounded_closest(ray, &mut nearest, tally);
         if self.wide.is_empty() {
             return nearest.best;
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
-        self.walk_closest::<S, KINDS>(kernels, 0, ray, &boxes, &ray4, &mut nearest);
+        self.walk_closest::<S, KINDS, T>(kernels, 0, ray, &boxes, &ray4, &mut nearest, tally);
         nearest.best
     }
 
@@ -81,7 +85,8 @@ impl Bvh {
     /// `ray` prepared for the slab and leaf tests. The packets hand a subtree over to
     /// it once only a few of their rays go on into it (`packet::SOLO`).
     #[inline(always)]
-    pub(in crate::accel) fn walk_closest<S: Kernels, const KINDS: u32>(
+    #[allow(clippy::too_many_arguments)]
+    pub(in crate::accel) fn walk_closest<S: Kernels, const KINDS: u32, T: Tally>(
         &self,
         kernels: S,
         start: u32,
@@ -89,6 +94,7 @@ impl Bvh {
         boxes: &RayBoxes,
         ray4: &Ray4,
         nearest: &mut Nearest,
+        tally: &mut T,
     ) {
         STACK.with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
@@ -97,6 +103,7 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
+                tally.nodes(1);
                 let limit = nearest.limit;
                 let (t, mask) = kernels.entries(node, boxes, limit);
                 let leaves = mask & node.leaf_lanes();
@@ -106,13 +113,14 @@ impl Bvh {
                     each &= each - 1;
                     if t[lane] < nearest.limit {
                         let count = node.count[lane] as usize;
-                        self.leaf_closest::<S, KINDS>(
+                        self.leaf_closest::<S, KINDS, T>(
                             kernels,
                             node.child[lane] as usize,
                             count,
                             ray,
                             ray4,
                             nearest,
+                            tally,
                         );
                     }
                 }
@@ -180,7 +188,8 @@ impl Bvh {
     /// [`Cone4`](crate::accel::leaf::cone4::Cone4) blocks when marked [`CONE4_LEAF`], else primitives; only the kinds
     /// in `KINDS` (see [`leaf_kinds`]) are looked for, the last one without looking.
     #[inline(always)]
-    pub(in crate::accel) fn leaf_closest<S: Kernels, const KINDS: u32>(
+    #[allow(clippy::too_many_arguments)]
+    pub(in crate::accel) fn leaf_closest<S: Kernels, const KINDS: u32, T: Tally>(
         &self,
         kernels: S,
         first: usize,
@@ -188,24 +197,29 @@ impl Bvh {
         ray: &Ray,
         ray4: &Ray4,
         nearest: &mut Nearest,
+        tally: &mut T,
     ) {
         if KINDS & leaf_kinds::SPHERES != 0 {
             if let Some(blocks) = marked(&self.sphere4, first, count, SPHERE4_LEAF) {
+                tally.prims(blocks.len() * LANES);
                 blocks_closest(blocks, ray4, nearest);
                 return;
             }
         }
         if KINDS & leaf_kinds::CONES != 0 {
             if let Some(blocks) = marked(&self.cone4, first, count, CONE4_LEAF) {
+                tally.prims(blocks.len() * LANES);
                 blocks_closest(blocks, ray4, nearest);
                 return;
             }
         }
         if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
+            tally.prims(blocks.len() * LANES);
             self.tri4_closest(kernels, blocks, ray, ray4, nearest);
             return;
         }
         count!(PRIMS, count);
+        tally.prims(count);
         for (k, p) in self.primitives[first..first + count].iter().enumerate() {
             if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
                 nearest.offer(h, self.canonical(first + k));

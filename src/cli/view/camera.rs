@@ -42,6 +42,7 @@ pub fn request(options: &OptionsMsg) -> RenderRequest {
 pub fn prepare_options(options: &OptionsMsg) -> PrepareOptions {
     PrepareOptions {
         shutter: Some(options.shutter),
+        accel: Some(options.accel),
     }
 }
 
@@ -119,6 +120,7 @@ mod tests {
             rough: true,
             integrator: IntegratorMsg::Whitted,
             shutter: [0.0, 1.0],
+            accel: nffrt::scene::Accel::Bvh,
         };
         let scene = nffrt::Scene::default().info();
         let r = request(&o).resolve(&scene).unwrap().opts;

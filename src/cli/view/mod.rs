@@ -30,7 +30,7 @@ use clap::Args;
 use tokio::sync::broadcast;
 
 use super::limits::SceneLimitArgs;
-use super::render::IntegratorArg;
+use super::render::{AccelArg, IntegratorArg};
 use super::{interrupt, CliError};
 use scene::Source;
 use server::App;
@@ -58,6 +58,10 @@ pub struct ViewArgs {
     /// file's P3F `integrator`, else whitted); the page can switch it.
     #[arg(long, value_enum, value_name = "NAME")]
     pub integrator: Option<IntegratorArg>,
+    /// The acceleration structure the page starts with: `bvh`, `grid` or `none`
+    /// (default: the file's P3F `accel`, else bvh); the page can switch it.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub accel: Option<AccelArg>,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: SceneLimitArgs,
@@ -107,6 +111,7 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
         },
         spp: args.spp,
         integrator: args.integrator.map(Into::into),
+        accel: args.accel.map(Into::into),
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,
         sessions: AtomicUsize::new(0),

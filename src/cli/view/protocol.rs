@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use nffrt::limits::{eye_grid_points, DEFAULT_SHUTTER, MAX_DEPTH, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
 use nffrt::render::Sampling;
-use nffrt::scene::{Integrator, View};
+use nffrt::scene::{Accel, Integrator, View};
 
 /// The largest text message accepted; longer ones get an error reply.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
@@ -112,6 +112,14 @@ pub struct OptionsMsg {
     /// 1). Moving spheres are bounded over it: a new shutter prepares the scene again.
     #[serde(default = "default_shutter")]
     pub shutter: [f32; 2],
+    /// The acceleration structure (default: the BVH). The picture is the same with
+    /// each; a new one prepares the scene again.
+    #[serde(default = "default_accel")]
+    pub accel: Accel,
+}
+
+fn default_accel() -> Accel {
+    Accel::Bvh
 }
 
 /// A message from the page.
@@ -374,6 +382,7 @@ mod tests {
                 rough: true,
                 integrator: IntegratorMsg::Path,
                 shutter: [0.0, 0.5],
+                accel: Accel::Grid,
             },
         }
     }
@@ -411,6 +420,7 @@ mod tests {
         assert!(options.rough);
         assert_eq!(options.integrator, IntegratorMsg::Whitted);
         assert_eq!(options.shutter, [0.0, 1.0]);
+        assert_eq!(options.accel, Accel::Bvh);
     }
 
     #[test]
@@ -507,6 +517,7 @@ mod tests {
                 options: OptionsMsg {
                     width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft, rough,
                     integrator: if path { IntegratorMsg::Path } else { IntegratorMsg::Whitted }, shutter,
+                    accel: Accel::None,
                 },
             };
             match parse_client_message(&serde_json::to_string(&msg).unwrap()) {

@@ -53,6 +53,7 @@ impl Loaded {
         let info = self.scene.info();
         let asked = PrepareOptions {
             shutter: opts.shutter.filter(|&s| s != info.shutter),
+            accel: opts.accel.filter(|&a| a != self.scene.accel().kind()),
         };
         if asked == PrepareOptions::default() {
             return self.scene.clone();

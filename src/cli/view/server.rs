@@ -42,6 +42,8 @@ pub struct App {
     pub spp: Option<u32>,
     /// `--integrator`, replacing the file's.
     pub integrator: Option<nffrt::scene::Integrator>,
+    /// `--accel`: the structure the page starts with (default: the file's).
+    pub accel: Option<nffrt::scene::Accel>,
     /// The latest good scene.
     pub scene: Current,
     /// Reloads and load errors.

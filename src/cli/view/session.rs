@@ -23,7 +23,7 @@ use super::worker::{Frame, Job, Worker};
 use nffrt::geometry::SourceKind;
 use nffrt::image::{encode_png, SOFTWARE_TEXT};
 use nffrt::render::debug::{kind_name, trace_pixel};
-use nffrt::scene::{AngleSpan, Dialect};
+use nffrt::scene::{Accel, AngleSpan, Dialect};
 
 /// The largest ray-tree reply, in bytes of JSON.
 const MAX_TREE_BYTES: usize = 8 << 20;
@@ -234,6 +234,7 @@ impl Session {
                 rough: true,
                 integrator: self.app.integrator.or(info.integrator).unwrap_or_default().into(),
                 shutter: info.shutter,
+                accel: self.app.accel.or(info.accel).unwrap_or(Accel::Bvh),
             },
             has_lens: view.aperture > 0.0,
             has_area_lights: info.area_lights() > 0,

@@ -13,7 +13,7 @@ const octx = overlay.getContext('2d');
 let ws = null;
 let scene = null; // the last `scene` message
 let camera = null; // {from, at, up, angle}: what the page asks for
-let options = null; // {width, height, max_depth, spp, lens, soft_shadows, rough, integrator, shutter}
+let options = null; // {width, height, max_depth, spp, lens, soft_shadows, rough, integrator, shutter, accel}
 let shownGen = 0; // newest generation drawn: older frames are dropped
 let frames = 0;
 let fullFrames = 0;
@@ -198,6 +198,7 @@ function showOptions() {
   $('soft').checked = options.soft_shadows;
   $('rough').checked = options.rough;
   $('integrator').value = options.integrator;
+  $('accel').value = options.accel;
   $('shutter-open').value = options.shutter[0];
   $('shutter-close').value = options.shutter[1];
 }
@@ -244,6 +245,8 @@ $('lens').addEventListener('change', () => { options = { ...options, lens: $('le
 $('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
 $('rough').addEventListener('change', () => { options = { ...options, rough: $('rough').checked }; requestRender(); });
 $('integrator').addEventListener('change', () => { options = { ...options, integrator: $('integrator').value }; requestRender(); });
+// The same picture with each structure; the status line's samples per second differ.
+$('accel').addEventListener('change', () => { options = { ...options, accel: $('accel').value }; requestRender(); });
 // The shutter's two times: numbers, the first no later than the second.
 for (const [id, k] of [['shutter-open', 0], ['shutter-close', 1]]) {
   $(id).addEventListener('change', () => {

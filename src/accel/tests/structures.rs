@@ -1,0 +1,151 @@
+//! The grid and the scan (`--accel grid|none`) give the BVH's answers exactly: the
+//! same hit, distance and primitive, ties included, and the same occlusion, on random
+//! scenes of spheres, triangles and a plane, on coincident primitives (ties), and on
+//! rays along the grid's cell boundaries; and each counts the work it does.
+
+use super::*;
+use crate::accel::{Aggregate, QueryCounts};
+use crate::scene::{Accel, Plane};
+
+fn v3(range: f32) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// The three structures over `scene`.
+fn all_three(scene: &Scene) -> [Aggregate; 3] {
+    [Accel::Bvh, Accel::Grid, Accel::None].map(|kind| Aggregate::new(bvh_of(scene), kind))
+}
+
+/// Every structure answers `ray` as the BVH does, for the closest hit and occlusion.
+fn assert_same_answers(structures: &[Aggregate; 3], ray: &Ray) {
+    let want = structures[0].closest_hit(ray, f32::INFINITY);
+    for s in &structures[1..] {
+        assert_eq!(
+            s.closest_hit(ray, f32::INFINITY),
+            want,
+            "{:?} on {ray:?}",
+            s.kind()
+        );
+        let mut counts = QueryCounts::default();
+        assert_eq!(s.closest_hit_counted(ray, f32::INFINITY, &mut counts), want);
+        for t_max in [0.5f32, 3.0, f32::INFINITY] {
+            let blocked = structures[0].occluded(ray, t_max);
+            assert_eq!(
+                s.occluded(ray, t_max),
+                blocked,
+                "{:?} on {ray:?} below {t_max}",
+                s.kind()
+            );
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn grid_and_scan_give_the_bvhs_answers(
+        spheres in prop::collection::vec((v3(10.0), 0.05f32..2.0), 0..50),
+        tris in prop::collection::vec((v3(10.0), v3(3.0), v3(3.0)), 0..50),
+        plane in any::<bool>(),
+        rays in prop::collection::vec((v3(15.0), v3(1.0)), 1..40),
+    ) {
+        let tris: Vec<[Vec3; 3]> = tris.iter().map(|&(a, d1, d2)| [a, a + d1, a + d2]).collect();
+        let mut scene = scene_with(&spheres, &tris);
+        if plane {
+            scene.planes.push(Plane {
+                points: [Vec3::new(0.0, -8.0, 0.0), Vec3::new(0.0, -8.0, 1.0), Vec3::new(1.0, -7.9, 0.0)],
+                material: 0,
+                line: 1,
+            });
+        }
+        let structures = all_three(&scene);
+        for (o, d) in rays {
+            if d.length() > 0.01 {
+                assert_same_answers(&structures, &Ray::new(o, d));
+            }
+        }
+    }
+}
+
+#[test]
+fn ties_between_coincident_triangles_go_to_the_same_primitive() {
+    // Ten copies of each of four triangles: every hit is a tie among ten.
+    let quad = [
+        [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ],
+        [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        [
+            Vec3::new(-1.0, -1.0, 2.0),
+            Vec3::new(1.0, -1.0, 2.0),
+            Vec3::new(1.0, 1.0, 2.0),
+        ],
+        [
+            Vec3::new(-1.0, -1.0, 2.0),
+            Vec3::new(1.0, 1.0, 2.0),
+            Vec3::new(-1.0, 1.0, 2.0),
+        ],
+    ];
+    let tris: Vec<[Vec3; 3]> = (0..10).flat_map(|_| quad).collect();
+    let structures = all_three(&scene_with(&[(Vec3::new(0.0, 0.0, 1.0), 0.3)], &tris));
+    let mut next = uniform(7);
+    for _ in 0..500 {
+        let o = Vec3::new(next() * 3.0 - 1.5, next() * 3.0 - 1.5, 5.0);
+        let ray = Ray::new(o, Vec3::new(next() - 0.5, next() - 0.5, -1.0));
+        assert_same_answers(&structures, &ray);
+    }
+}
+
+#[test]
+fn rays_along_cell_boundaries_and_axes_find_the_same_hits() {
+    // A lattice of small spheres; rays parallel to the axes through the lattice points
+    // run along the boundaries between cells.
+    let spheres: Vec<(Vec3, f32)> = (0..8)
+        .flat_map(|i| (0..8).flat_map(move |j| (0..8).map(move |k| (i, j, k))))
+        .map(|(i, j, k)| (Vec3::new(i as f32, j as f32, k as f32), 0.2))
+        .collect();
+    let structures = all_three(&scene_with(&spheres, &[]));
+    let grid = structures[1].grid().unwrap();
+    assert!(grid.cells().iter().all(|&c| c > 1), "{:?}", grid.cells());
+    for a in 0..8 {
+        for b in 0..8 {
+            let (x, y) = (a as f32 * 0.5, b as f32 * 0.5);
+            for (o, d) in [
+                (Vec3::new(x, y, -3.0), Vec3::new(0.0, 0.0, 1.0)),
+                (Vec3::new(x, -3.0, y), Vec3::new(0.0, 1.0, 0.0)),
+                (Vec3::new(10.0, x, y), Vec3::new(-1.0, 0.0, 0.0)),
+                (Vec3::new(x, y, 3.5), Vec3::new(0.3, -0.2, 1.0)),
+            ] {
+                assert_same_answers(&structures, &Ray::new(o, d));
+            }
+        }
+    }
+}
+
+#[test]
+fn each_structure_counts_its_work() {
+    let spheres: Vec<(Vec3, f32)> = (0..100)
+        .map(|i| (Vec3::new(i as f32 * 3.0, 0.0, 0.0), 1.0))
+        .collect();
+    let structures = all_three(&scene_with(&spheres, &[]));
+    // Along the row: the nearest sphere is the first.
+    let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
+    let counts = structures.each_ref().map(|s| {
+        let mut c = QueryCounts::default();
+        let hit = s.closest_hit_counted(&ray, f32::INFINITY, &mut c).unwrap();
+        assert!((hit.0.t - 4.0).abs() < 1e-5);
+        c
+    });
+    // The scan tests all 100 and visits nothing; the grid stops in the first cells;
+    // the BVH visits a few nodes and tests a few blocks of four.
+    assert_eq!(counts[2], QueryCounts { nodes: 0, prims: 100 });
+    assert!(counts[1].nodes >= 1 && counts[1].prims < 20, "{:?}", counts[1]);
+    assert!(counts[0].nodes >= 1 && counts[0].prims < 40, "{:?}", counts[0]);
+}
