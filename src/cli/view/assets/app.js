@@ -138,13 +138,14 @@ function onBinary(buffer) {
   const mrays = header.rays / Math.max(header.ms, 1e-3) / 1e3;
   // Samples per pixel per second: how fast the running average converges.
   const rate = header.samples / Math.max(header.ms / 1e3, 1e-3);
+  const count = (n, word) => `${n} ${word}${n === 1 ? '' : 's'}`;
   $('status').textContent = [
     header.stride > 1 ? `preview 1/${header.stride}` : `samples ${header.samples}/${header.target}`,
     header.stride > 1 ? '' : `${rate < 10 ? rate.toFixed(2) : rate.toFixed(1)} samples/s`,
     `${mrays.toFixed(1)} Mrays/s`,
     `${(header.ms / 1e3).toFixed(2)} s`,
     `${header.width}×${header.height}`,
-    c ? `${c.primitives} primitives, ${c.lights} lights, ${c.materials} materials` : '',
+    c ? [count(c.primitives, 'primitive'), count(c.lights, 'light'), count(c.materials, 'material')].join(', ') : '',
   ].filter((part) => part !== '').join(' · ');
 }
 
