@@ -15,18 +15,7 @@ use common::{json_of, nffrt, scratch_dir};
 const BIG: u64 = 20_000;
 
 fn p3f_scenes() -> Option<Vec<PathBuf>> {
-    let root = common::skip::shared("scenes/p3f")?;
-    let mut all = Vec::new();
-    for dir in ["2019", "2025", "extensions"] {
-        let dir = root.join(dir);
-        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let path = entry.unwrap().path();
-            if path.extension().is_some_and(|e| e == "p3f") {
-                all.push(path);
-            }
-        }
-    }
-    all.sort();
+    let all = common::shared_p3f_scenes(&["2019", "2025", "extensions"])?;
     assert!(all.len() >= 15, "only {} P3F scenes", all.len());
     Some(all)
 }

@@ -12,18 +12,7 @@ use common::{field, info_json, json_of, nffrt, scratch_dir, tokens_without_comme
 /// The P3F scenes under `../shared/scenes/p3f/`, or `None` (after saying the test is
 /// skipped) without it.
 fn p3f_scenes() -> Option<Vec<PathBuf>> {
-    let root = common::skip::shared("scenes/p3f")?;
-    let mut all = Vec::new();
-    for year in ["2019", "2025"] {
-        let dir = root.join(year);
-        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
-            let path = entry.unwrap().path();
-            if path.extension().is_some_and(|e| e == "p3f") {
-                all.push(path);
-            }
-        }
-    }
-    all.sort();
+    let all = common::shared_p3f_scenes(&["2019", "2025"])?;
     assert!(all.len() >= 10, "only {} P3F scenes", all.len());
     Some(all)
 }

@@ -155,3 +155,21 @@ pub fn tokens_without_comments(text: &str) -> Vec<&str> {
         .flat_map(|line| line.split('#').next().unwrap_or("").split_whitespace())
         .collect()
 }
+
+/// The `.p3f` files of the folders `dirs` of `../shared/scenes/p3f/`, sorted, or `None`
+/// (after saying the test is skipped) without `../shared`.
+pub fn shared_p3f_scenes(dirs: &[&str]) -> Option<Vec<PathBuf>> {
+    let root = skip::shared("scenes/p3f")?;
+    let mut all = Vec::new();
+    for dir in dirs {
+        let dir = root.join(dir);
+        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "p3f") {
+                all.push(path);
+            }
+        }
+    }
+    all.sort();
+    Some(all)
+}

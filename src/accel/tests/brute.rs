@@ -4,10 +4,6 @@
 
 use super::*;
 
-fn v3(range: f32) -> impl Strategy<Value = Vec3> {
-    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
-}
-
 fn unit() -> impl Strategy<Value = Vec3> {
     v3(1.0)
         .prop_filter("non-zero", |v| v.length() > 0.1)

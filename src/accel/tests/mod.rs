@@ -15,6 +15,11 @@ mod brute;
 mod edges;
 mod structures;
 
+/// Points in the cube `[-range, range)^3`.
+fn v3(range: f32) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
 fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
     let mut s = Scene {
         materials: vec![Material::DEFAULT],

@@ -7,10 +7,6 @@ use super::*;
 use crate::accel::{Aggregate, QueryCounts};
 use crate::scene::{Accel, Plane};
 
-fn v3(range: f32) -> impl Strategy<Value = Vec3> {
-    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
-}
-
 /// The three structures over `scene`.
 fn all_three(scene: &Scene) -> [Aggregate; 3] {
     [Accel::Bvh, Accel::Grid, Accel::None].map(|kind| Aggregate::new(bvh_of(scene), kind))
