@@ -12,14 +12,18 @@ use rayon::prelude::*;
 use super::limits::RenderLimitArgs;
 use super::load::{load_scene, Need};
 use super::output::brief;
+use super::render::IntegratorArg;
 use super::values::whole_number;
 use super::CliError;
 use nffrt::accel::{Aggregate, Bvh, QueryCounts, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::limits::MAX_THREADS;
+use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
+use nffrt::prepare::{prepare_with, PrepareOptions};
+use nffrt::render::RenderRequest;
 use nffrt::render::{Camera, RenderOptions, Sampling};
-use nffrt::scene::Accel;
+use nffrt::scene::{Accel, Integrator};
 use nffrt::words::count;
 
 /// Arguments of `nffrt bench`.
@@ -60,6 +64,12 @@ pub struct BenchArgs {
     /// per ray).
     #[arg(long, value_enum, value_name = "NAME", default_value = "bvh")]
     pub accel: BenchAccel,
+    /// Also time whole renders of the scene (shading included) with this light
+    /// transport, `whitted` or `path`, at the file's size and samples (path tracing's
+    /// default without them: 16), on --threads threads; with the first structure of
+    /// --accel.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub integrator: Option<IntegratorArg>,
     /// Resource limits (see "Limits" in docs/command-line.md); the primary and random ray sets
     /// count as pixels.
     #[command(flatten)]
@@ -114,7 +124,12 @@ struct Timing {
 pub fn run(args: BenchArgs) -> Result<(), CliError> {
     // The rays file first: a bad one is reported before anything is built or printed.
     let file_rays = args.rays.as_ref().map(read_rays).transpose()?;
-    let loaded = load_scene(&args.scene, &args.limits.scene, Need::Summary)?;
+    let need = if args.integrator.is_some() {
+        Need::Render
+    } else {
+        Need::Summary
+    };
+    let loaded = load_scene(&args.scene, &args.limits.scene, need)?;
     let scene = &loaded.scene;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads as usize)
@@ -196,6 +211,17 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     if rows.len() > 3 || args.accel == BenchAccel::All {
         print_table(&rows);
     }
+    if let Some(integrator) = args.integrator {
+        let accel = args.accel.structures()[0];
+        time_renders(
+            &pool,
+            &loaded,
+            integrator.into(),
+            accel,
+            args.repeat,
+            &mut summary,
+        )?;
+    }
     summary.push(format!("threads={}", args.threads));
     outln!("{}", summary.join(" "));
     Ok(())
@@ -268,6 +294,61 @@ fn time_structure(
         occlusion_mrays: occl.median_mrays,
         per_ray,
     })
+}
+
+/// Times `repeat` whole renders of `loaded` with `integrator` (after one untimed) and
+/// prints the median's time, samples per second and rays per second.
+fn time_renders(
+    pool: &rayon::ThreadPool,
+    loaded: &Loaded,
+    integrator: Integrator,
+    accel: Accel,
+    repeat: u32,
+    summary: &mut Vec<String>,
+) -> Result<(), CliError> {
+    let info = loaded.scene.info();
+    let request = RenderRequest {
+        integrator: Some(integrator),
+        ..RenderRequest::default()
+    };
+    let opts = request.resolve(&info).map_err(CliError::usage)?.opts;
+    let prepare = PrepareOptions {
+        accel: Some(accel),
+        ..PrepareOptions::default()
+    };
+    let scene = pool.install(|| prepare_with(loaded.scene.clone(), &loaded.assets, &prepare));
+    let render = || {
+        pool.install(|| scene.render(scene.view(), &opts))
+            .map_err(|e| CliError::usage(e.to_string()))
+    };
+    let (_, stats) = render()?;
+    let mut seconds = Vec::new();
+    for _ in 0..repeat {
+        let t0 = Instant::now();
+        render()?;
+        seconds.push(t0.elapsed().as_secs_f64());
+    }
+    let s = median(&mut seconds);
+    let samples = opts.width as f64 * opts.height as f64 * opts.sampling.samples_per_pixel() as f64;
+    let name = match integrator {
+        Integrator::Whitted => "whitted",
+        Integrator::Path => "path",
+    };
+    outln!(
+        "  render: {name}, {}x{}, {}, max depth {}: {s:.3} s (median of {repeat}), {:.2} M samples/s, {:.2} Mrays/s",
+        opts.width,
+        opts.height,
+        opts.sampling,
+        opts.max_depth,
+        samples / s / 1e6,
+        stats.total_rays() as f64 / s / 1e6
+    );
+    summary.push(format!("render_{name}_s={s:.4}"));
+    summary.push(format!(
+        "render_{name}_mrays={:.3}",
+        stats.total_rays() as f64 / s / 1e6
+    ));
+    Ok(())
 }
 
 /// Nodes or cells visited and primitives tested per closest-hit query, over at most
