@@ -93,3 +93,42 @@ fn none_grid_and_bvh_render_every_course_scene_identically() {
         );
     }
 }
+
+/// A path-traced scene (an emissive sphere and a quad, rough metal, glass and a
+/// triangle fan) gives the same bytes with each structure: paths, light samples and
+/// the emitters' order do not depend on it.
+#[test]
+fn path_tracing_is_the_same_with_each_structure() {
+    const SCENE: &str = "integrator path\nspp 4\nbclr 0.1 0.1 0.15\n\
+        camera\neye 0 1.5 6\nat 0 0.5 0\nup 0 1 0\nangle 40\nhither 0.1\nresolution 48 36\naperture 0\nfocal 1\n\
+        mat 1 1 1 0 0 0 0 0 1 0 1 4 4 3.5\ns 0 3 0 0.6\n\
+        mat 0.8 0.8 0.8 1 0 0 0 0 1 0 1\np 4 -4 0 -4 4 0 -4 4 0 4 -4 0 4\n\
+        mat 0.9 0.6 0.3 0 0.9 0.6 0.3 1 1 0 1 roughness 0.3\ns -1 0.7 0 0.7\n\
+        mat 1 1 1 0 1 1 1 0 1 1 1.5\ns 1 0.7 0.5 0.7\n\
+        mat 0.2 0.8 0.3 1 0 0 0 0 1 0 1\np 3 -2 0 -1 -1 1.5 -1 -2.5 0 -2\n";
+    let dir = scratch_dir(file!(), "path");
+    let mut pictures = Vec::new();
+    for accel in ["bvh", "grid", "none"] {
+        let out = dir.join(format!("path-{accel}.png"));
+        let args = [
+            "render",
+            "--format",
+            "p3f",
+            "-",
+            "--accel",
+            accel,
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        let run = nffrt(&args, SCENE.as_bytes());
+        assert!(
+            run.status.success(),
+            "{accel}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        pictures.push(std::fs::read(&out).unwrap());
+    }
+    assert!(pictures[1] == pictures[0], "grid differs from bvh");
+    assert!(pictures[2] == pictures[0], "none differs from bvh");
+}
