@@ -21,7 +21,15 @@ variants=${VARIANTS:-llvm_ad_rgb scalar_rgb}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
-wall() { local t0 t1; t0=$(date +%s%N); "$@" >/dev/null 2>&1; t1=$(date +%s%N); awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
+# Wall seconds of a command; a failure shows its output and stops the script (a
+# command substitution would otherwise swallow it).
+wall() {
+    local t0 t1
+    t0=$(date +%s%N)
+    "$@" >"$tmp/log" 2>&1 || { cat "$tmp/log" >&2; echo "failed: $*" >&2; kill -TERM $$; }
+    t1=$(date +%s%N)
+    awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'
+}
 nffrt_run() {
     "$NFFRT" render examples/cornell.p3f --integrator path --spp "$spp" --max-depth "$depth" \
         --width "$size" --height "$size" -q -o "$tmp/nffrt.exr"
@@ -35,7 +43,7 @@ printf '%-22s %9s %12s %14s\n' renderer seconds "vs nffrt" "Msamples/s"
 row() { printf '%-22s %9.2f %11.2fx %14.2f\n' "$1" "$2" "$(awk -v a="$2" -v b="$nffrt_s" 'BEGIN {print a/b}')" "$(awk -v t="$2" -v n="$((size * size * spp))" 'BEGIN {print n/t/1e6}')"; }
 row nffrt "$nffrt_s"
 for v in $variants; do
-    mitsuba_run "$v" >/dev/null 2>&1 # the kernel cache, warm
+    wall mitsuba_run "$v" >/dev/null # the kernel cache, warm
     s=$(for _ in $(seq "$runs"); do wall mitsuba_run "$v"; done | median)
     row "mitsuba $v" "$s"
 done
