@@ -47,3 +47,10 @@ for v in $variants; do
     s=$(for _ in $(seq "$runs"); do wall mitsuba_run "$v"; done | median)
     row "mitsuba $v" "$s"
 done
+
+# Time to equal error, against the converged reference compare-mitsuba.sh leaves.
+if ls target/mitsuba-compare/cornell-*-[12].exr >/dev/null 2>&1; then
+    "$MITSUBA_PY" scripts/rmse-mitsuba.py "$NFFRT" "$MITSUBA_PY" $variants
+else
+    echo "(no reference for time to equal RMSE: run scripts/compare-mitsuba.sh first)"
+fi
