@@ -36,6 +36,8 @@ nffrt_run() {
 }
 mitsuba_run() { "$MITSUBA_PY" scripts/mitsuba_render.py "$1" cornell "$size" "$spp" "$tmp/$1.exr"; }
 
+load() { awk '{print $1, $2, $3}' /proc/loadavg; }
+echo "== load average before: $(load) (another job on the cores skews every figure)"
 echo "== CPU: $(lscpu | awk -F': +' '/^Model name/ {print $2}'), $(nproc) cores; Mitsuba $("$MITSUBA_PY" -c 'import mitsuba; print(mitsuba.__version__)')"
 echo "== Cornell box ${size}x${size}, $spp spp, max depth $depth: wall seconds, median of $runs"
 nffrt_s=$(for _ in $(seq "$runs"); do wall nffrt_run; done | median)
@@ -47,6 +49,8 @@ for v in $variants; do
     s=$(for _ in $(seq "$runs"); do wall mitsuba_run "$v"; done | median)
     row "mitsuba $v" "$s"
 done
+
+echo "== load average after the medians: $(load)"
 
 # Time to equal error, against the converged reference compare-mitsuba.sh leaves.
 if ls target/mitsuba-compare/cornell-*-[12].exr >/dev/null 2>&1; then
