@@ -30,24 +30,25 @@ MIRROR = {"center": [0.45, -0.65, -0.35], "radius": 0.35, "reflectance": [0.95, 
 MAX_DEPTH = {"cornell": 8, "glass-mirror": 12}
 
 
-def _with_film(scene, size, spp, max_depth):
-    """The scene at size x size pixels, spp independent samples, a one-pixel box
-    filter and max_depth."""
+def _with_film(scene, size, spp, max_depth, sampler="independent"):
+    """The scene at size x size pixels, spp samples from `sampler` (Mitsuba's
+    `independent` by default, as its Cornell box; `stratified` jitters strata as nffrt
+    does), a one-pixel box filter and max_depth."""
     sensor = scene["sensor"]
     sensor["film"]["width"] = size
     sensor["film"]["height"] = size
     sensor["film"]["rfilter"] = {"type": "box"}
-    sensor["sampler"] = {"type": "independent", "sample_count": spp}
+    sensor["sampler"] = {"type": sampler, "sample_count": spp}
     scene["integrator"] = {"type": "path", "max_depth": max_depth}
     return scene
 
 
-def cornell(size=256, spp=64, max_depth=MAX_DEPTH["cornell"]):
+def cornell(size=256, spp=64, max_depth=MAX_DEPTH["cornell"], sampler="independent"):
     """Mitsuba's Cornell box as examples/cornell.p3f has it."""
-    return _with_film(mi.cornell_box(), size, spp, max_depth)
+    return _with_film(mi.cornell_box(), size, spp, max_depth, sampler)
 
 
-def glass_mirror(size=256, spp=64, max_depth=MAX_DEPTH["glass-mirror"]):
+def glass_mirror(size=256, spp=64, max_depth=MAX_DEPTH["glass-mirror"], sampler="independent"):
     """examples/glass-mirror.p3f: the Cornell walls and light, a smooth glass sphere
     and a smooth tinted mirror sphere instead of the boxes."""
     scene = mi.cornell_box()
@@ -68,7 +69,7 @@ def glass_mirror(size=256, spp=64, max_depth=MAX_DEPTH["glass-mirror"]):
             "specular_reflectance": {"type": "rgb", "value": MIRROR["reflectance"]},
         },
     }
-    return _with_film(scene, size, spp, max_depth)
+    return _with_film(scene, size, spp, max_depth, sampler)
 
 
 SCENES = {"cornell": cornell, "glass-mirror": glass_mirror}

@@ -8,7 +8,9 @@ samples per pixel from both renderers, unbiased if both are; their own RMS error
 printed, a floor under every RMSE below). Each renderer then renders the same
 picture, as a whole process, at rising sample counts (nffrt with its default
 pattern, --seed 0, Mitsuba with seed 0: neither shares a sample with the reference);
-the table gives wall seconds and the RMSE over all pixels and channels. Last, the
+the table gives wall seconds and the RMSE over all pixels and channels. Mitsuba runs
+with its `independent` sampler (its Cornell box's) and, on the first variant named,
+also with `stratified`, jittered strata as nffrt's samples are. Last, the
 time each Mitsuba variant needs to reach the RMSE nffrt reaches at the largest count,
 from its own RMSE falling as 1/sqrt(time) past its largest measured point (log-log
 interpolation between measured points when they bracket it).
@@ -56,9 +58,9 @@ def nffrt_cmd(args, size, spp, out):
             "--height", str(size), "-q", "-o", str(out)]
 
 
-def mitsuba_cmd(args, variant, size, spp, out):
+def mitsuba_cmd(args, variant, size, spp, out, sampler="independent"):
     return [args.mitsuba_py, str(ROOT / "scripts/mitsuba_render.py"), variant, "cornell",
-            str(size), str(spp), str(out)]
+            str(size), str(spp), str(out), "0", sampler]
 
 
 def time_to(points, target):
@@ -85,7 +87,7 @@ def main():
     size = ref.shape[0]
     print(f"== time to equal RMSE: Cornell box {size}x{size}, max depth {DEPTH}, whole processes;"
           f" reference {REF_DIR.name}/cornell-*.exr, its own RMS error ~{ref_rmse:.5f}")
-    print(f"{'renderer':22} {'spp':>6} {'seconds':>9} {'RMSE':>9}")
+    print(f"{'renderer':28} {'spp':>6} {'seconds':>9} {'RMSE':>9}")
     curves = {}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "x.exr"
@@ -93,13 +95,16 @@ def main():
         for v in args.variants:
             runners.append((f"mitsuba {v}", lambda spp, v=v: mitsuba_cmd(args, v, size, spp, out)))
             subprocess.run(mitsuba_cmd(args, v, size, 4, out), check=True)  # kernel cache
+        v = args.variants[0]
+        runners.append((f"mitsuba {v} strat.", lambda spp: mitsuba_cmd(args, v, size, spp, out, "stratified")))
+        subprocess.run(mitsuba_cmd(args, v, size, 4, out, "stratified"), check=True)
         for name, cmd in runners:
             points = []
             for spp in args.spp:
                 seconds, img = timed(cmd(spp), out)
                 rmse = float(np.sqrt(((img - ref) ** 2).mean()))
                 points.append((seconds, rmse))
-                print(f"{name:22} {spp:6} {seconds:9.2f} {rmse:9.5f}")
+                print(f"{name:28} {spp:6} {seconds:9.2f} {rmse:9.5f}")
             curves[name] = points
     target = curves["nffrt"][-1][1]
     t_nffrt = curves["nffrt"][-1][0]
@@ -107,7 +112,7 @@ def main():
     for name, points in curves.items():
         if name != "nffrt":
             t = time_to(points, target)
-            print(f"  {name:22} {t:8.2f} s  ({t / t_nffrt:.2f}x nffrt's time)")
+            print(f"  {name:28} {t:8.2f} s  ({t / t_nffrt:.2f}x nffrt's time)")
 
 
 if __name__ == "__main__":
