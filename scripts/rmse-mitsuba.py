@@ -8,7 +8,9 @@ samples per pixel from both renderers, unbiased if both are; their own RMS error
 printed, a floor under every RMSE below). Each renderer then renders the same
 picture, as a whole process, at rising sample counts (nffrt with its default
 pattern, --seed 0, Mitsuba with seed 0: neither shares a sample with the reference);
-the table gives wall seconds and the RMSE over all pixels and channels. Mitsuba runs
+the table gives the medians of RUNS alternating runs' wall and CPU seconds (CPU time,
+user and system of the process and its threads, suffers less from another job on the
+cores) and the RMSE over all pixels and channels. Mitsuba runs
 with its `independent` sampler (its Cornell box's) and, on the first variant named,
 also with `stratified`, jittered strata as nffrt's samples are. Last, the
 time each Mitsuba variant needs to reach the RMSE nffrt reaches at the largest count,
@@ -19,6 +21,7 @@ interpolation between measured points when they bracket it).
 """
 
 import argparse
+import resource
 import subprocess
 import tempfile
 import time
@@ -47,9 +50,14 @@ def reference():
 
 
 def timed(cmd, out):
+    """Runs cmd; returns (wall seconds, CPU seconds of it and its children, picture)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return time.perf_counter() - t0, read_exr(out)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, read_exr(out)
 
 
 def nffrt_cmd(args, size, spp, out):
@@ -81,14 +89,14 @@ def main():
     p.add_argument("mitsuba_py")
     p.add_argument("variants", nargs="+")
     p.add_argument("--spp", type=int, nargs="+", default=[16, 64, 256])
+    p.add_argument("--runs", type=int, default=3, help="median of this many, alternating")
     args = p.parse_args()
     mi.set_variant("scalar_rgb")
     ref, ref_rmse = reference()
     size = ref.shape[0]
     print(f"== time to equal RMSE: Cornell box {size}x{size}, max depth {DEPTH}, whole processes;"
           f" reference {REF_DIR.name}/cornell-*.exr, its own RMS error ~{ref_rmse:.5f}")
-    print(f"{'renderer':28} {'spp':>6} {'seconds':>9} {'RMSE':>9}")
-    curves = {}
+    print(f"{'renderer':28} {'spp':>6} {'wall s':>8} {'CPU s':>8} {'RMSE':>9}")
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "x.exr"
         runners = [("nffrt", lambda spp: nffrt_cmd(args, size, spp, out))]
@@ -98,22 +106,33 @@ def main():
         v = args.variants[0]
         runners.append((f"mitsuba {v} strat.", lambda spp: mitsuba_cmd(args, v, size, spp, out, "stratified")))
         subprocess.run(mitsuba_cmd(args, v, size, 4, out, "stratified"), check=True)
-        for name, cmd in runners:
-            points = []
+        # (runner, spp) -> wall and CPU seconds of each run, and the RMSE (every run
+        # of a seed gives the same picture).
+        walls, cpus, rmses = {}, {}, {}
+        for _ in range(args.runs):
             for spp in args.spp:
-                seconds, img = timed(cmd(spp), out)
-                rmse = float(np.sqrt(((img - ref) ** 2).mean()))
-                points.append((seconds, rmse))
-                print(f"{name:28} {spp:6} {seconds:9.2f} {rmse:9.5f}")
-            curves[name] = points
-    target = curves["nffrt"][-1][1]
-    t_nffrt = curves["nffrt"][-1][0]
-    print(f"to RMSE {target:.5f} (nffrt at {args.spp[-1]} spp, {t_nffrt:.2f} s):")
+                for name, cmd in runners:
+                    wall, cpu, img = timed(cmd(spp), out)
+                    walls.setdefault((name, spp), []).append(wall)
+                    cpus.setdefault((name, spp), []).append(cpu)
+                    rmses[name, spp] = float(np.sqrt(((img - ref) ** 2).mean()))
+    curves = {}
+    for name, _ in runners:
+        points = []
+        for spp in args.spp:
+            wall, cpu = np.median(walls[name, spp]), np.median(cpus[name, spp])
+            points.append((wall, cpu, rmses[name, spp]))
+            print(f"{name:28} {spp:6} {wall:8.2f} {cpu:8.2f} {rmses[name, spp]:9.5f}")
+        curves[name] = points
+    target = curves["nffrt"][-1][2]
+    wall_n, cpu_n = curves["nffrt"][-1][:2]
+    print(f"to RMSE {target:.5f} (nffrt's at {args.spp[-1]} spp: {wall_n:.2f} s wall, {cpu_n:.2f} s CPU), medians of {args.runs}:")
     for name, points in curves.items():
         if name != "nffrt":
-            t = time_to(points, target)
-            print(f"  {name:28} {t:8.2f} s  ({t / t_nffrt:.2f}x nffrt's time)")
-
+            wall = time_to([(w, e) for w, _, e in points], target)
+            cpu = time_to([(c, e) for _, c, e in points], target)
+            print(f"  {name:28} {wall:8.2f} s wall ({wall / wall_n:.2f}x nffrt's), "
+                  f"{cpu:8.2f} s CPU ({cpu / cpu_n:.2f}x)")
 
 if __name__ == "__main__":
     main()
