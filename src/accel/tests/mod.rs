@@ -14,6 +14,7 @@ use proptest::prelude::*;
 mod brute;
 mod edges;
 mod structures;
+mod watertight;
 
 fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
     let mut s = Scene {
