@@ -3,12 +3,16 @@
 //! tested together against one ray ([`pair_hits`]).
 //!
 //! Each (ray, triangle) pair goes through exactly the arithmetic of the 4-lane
-//! [`Tri4`] test (same operations in the same order, no fused multiply-add), so hits,
-//! distances and barycentrics are bit-identical to what the ray gets alone.
+//! [`Tri4`] test (the generic [`watertight`], same operations in the same order, no
+//! fused multiply-add), so hits, distances and barycentrics are bit-identical to
+//! what the ray gets alone. Each ray sees the triangle in its own frame
+//! ([`Sheared`]): the vertices' coordinates are permuted by the ray's axes, lane by
+//! lane when the rays do not all share them (rare in a coherent packet).
 
 use wide::f32x8;
 
-use super::tri4::{accepted, moller_trumbore, Tri4, LANES};
+use super::tri4::{Ray4, Tri4, LANES};
+use crate::geometry::watertight::{watertight, Sheared};
 use crate::math::Ray;
 
 /// Rays per [`Ray8`].
@@ -23,6 +27,14 @@ pub struct Ray8 {
     pub dir: [[f32; RAYS]; 3],
     /// Inverse directions (`Ray::inv_dir`).
     pub inv: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::origin`], `[axis][ray]`.
+    pub sheared_origin: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::shear`], `[axis][ray]`.
+    pub shear: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::axes`].
+    pub axes: [[usize; 3]; RAYS],
+    /// The axes, when all eight rays have the same.
+    pub shared_axes: Option<[usize; 3]>,
 }
 
 impl Ray8 {
@@ -35,16 +47,42 @@ impl Ray8 {
             origin: [[0.0; RAYS]; 3],
             dir: [[0.0; RAYS]; 3],
             inv: [[0.0; RAYS]; 3],
+            sheared_origin: [[0.0; RAYS]; 3],
+            shear: [[0.0; RAYS]; 3],
+            axes: [[0; 3]; RAYS],
+            shared_axes: None,
         };
+        let mut shared = true;
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
+            let sheared = Sheared::new(ray);
             for axis in 0..3 {
                 r.origin[axis][k] = ray.origin[axis];
                 r.dir[axis][k] = ray.dir[axis];
                 r.inv[axis][k] = ray.inv_dir[axis];
+                r.sheared_origin[axis][k] = sheared.origin[axis];
+                r.shear[axis][k] = sheared.shear[axis];
+            }
+            r.axes[k] = sheared.axes;
+            shared &= sheared.axes == r.axes[0];
+        }
+        r.shared_axes = shared.then_some(r.axes[0]);
+        r
+    }
+
+    /// Lane `lane`'s vertices of `block`, each permuted by each ray's axes,
+    /// `[vertex][axis][ray]` (for rays that do not share their axes).
+    #[inline(always)]
+    pub fn gather(&self, block: &Tri4, lane: usize) -> [[[f32; RAYS]; 3]; 3] {
+        let mut out = [[[0.0; RAYS]; 3]; 3];
+        for (vertex, v) in [&block.v0, &block.v1, &block.v2].into_iter().enumerate() {
+            for k in 0..RAYS {
+                for (j, &axis) in self.axes[k].iter().enumerate() {
+                    out[vertex][j][k] = v[axis][lane];
+                }
             }
         }
-        r
+        out
     }
 }
 
@@ -52,12 +90,11 @@ impl Ray8 {
 /// and the rays that hit with `0 < t < limit` as bits.
 pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
 
-/// The hits of a Möller–Trumbore result `[det, t, u, v]` over eight lanes, each below
-/// its own `limit`, accepted as `Tri4::test` accepts them.
+/// The watertight test on eight lanes, as arrays.
 #[inline(always)]
-fn accept8(mt: [f32x8; 4], limit: f32x8) -> Hits8 {
-    let [_, t, u, v] = mt;
-    (t.to_array(), u.to_array(), v.to_array(), accepted(mt, limit))
+fn test8(origin: &[f32x8; 3], shear: &[f32x8; 3], v: [[f32x8; 3]; 3], limit: f32x8) -> Hits8 {
+    let (t, u, v, hit) = watertight(origin, shear, &v[0], &v[1], &v[2], limit);
+    (t.to_array(), u.to_array(), v.to_array(), hit)
 }
 
 impl Tri4 {
@@ -66,42 +103,43 @@ impl Tri4 {
     #[inline(always)]
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
-        let tri = |a: &[[f32; LANES]; 3]| [0, 1, 2].map(|axis| f32x8::splat(a[axis][lane]));
-        let mt = moller_trumbore(
-            &rays.origin.map(f32x8::from),
-            &rays.dir.map(f32x8::from),
-            &tri(&self.v0),
-            &tri(&self.e1),
-            &tri(&self.e2),
-            f32x8::ONE,
-        );
-        accept8(mt, f32x8::from(*limits))
+        let v = match rays.shared_axes {
+            Some(axes) => [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis][lane]))),
+            None => rays.gather(self, lane).map(|v| v.map(f32x8::from)),
+        };
+        test8(
+            &rays.sheared_origin.map(f32x8::from),
+            &rays.shear.map(f32x8::from),
+            v,
+            f32x8::from(*limits),
+        )
     }
 }
 
 /// The eight triangles of two blocks (`first`'s four lanes, then `second`'s) against
-/// one ray below `t_max`, with the arithmetic of the 4-lane test (`Tri4::test`): one
-/// eight-lane test where a leaf holds five to eight triangles.
+/// one ray (`ray`, prepared) below `t_max`, with the arithmetic of the 4-lane test
+/// (`Tri4::test`): one eight-lane test where a leaf holds five to eight triangles.
 #[inline(always)]
-pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let axes = ray.sheared.axes;
     let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
-        [0, 1, 2].map(|axis| {
+        axes.map(|axis| {
             let mut lanes = [0.0; RAYS];
             lanes[..LANES].copy_from_slice(&a[axis]);
             lanes[LANES..].copy_from_slice(&b[axis]);
             f32x8::from(lanes)
         })
     };
-    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
-    let mt = moller_trumbore(
-        &o.map(f32x8::splat),
-        &d.map(f32x8::splat),
-        &both(&first.v0, &second.v0),
-        &both(&first.e1, &second.e1),
-        &both(&first.e2, &second.e2),
-        f32x8::ONE,
-    );
-    accept8(mt, f32x8::splat(t_max))
+    test8(
+        &ray.sheared.origin.map(f32x8::splat),
+        &ray.sheared.shear.map(f32x8::splat),
+        [
+            both(&first.v0, &second.v0),
+            both(&first.v1, &second.v1),
+            both(&first.v2, &second.v2),
+        ],
+        f32x8::splat(t_max),
+    )
 }
 
 #[cfg(test)]
@@ -158,15 +196,34 @@ pub(crate) mod tests {
             let limits = std::array::from_fn(|k| [f32::INFINITY, 4.0, 2.2][(k + p) % 3]);
             packets.push((rays, limits));
         }
+        // Packets whose rays differ in their largest direction component (x for
+        // some, z for the others, both equal for one), so in their test frames.
+        for p in 0..30 {
+            let rays: Vec<Ray> = (0..RAYS)
+                .map(|k| {
+                    let x = match k {
+                        7 => 1.0,
+                        _ => (k as f32 - 3.5) * 0.3 + (p % 5) as f32 * 0.013,
+                    };
+                    let y = (p % 7) as f32 * 0.1 - 0.3;
+                    let o = Vec3::new(0.01 * p as f32, 0.0, 1.8);
+                    let d = Vec3::new(x, y, 1.0);
+                    Ray::new(o, if p % 2 == 0 { d } else { d.normalize() })
+                })
+                .collect();
+            let limits = std::array::from_fn(|k| [f32::INFINITY, 4.0, 2.2][(k + p) % 3]);
+            packets.push((rays, limits));
+        }
         (block, tris, packets)
     }
 
     #[test]
     fn each_ray_gets_the_scalar_test_bit_for_bit() {
         let (block, tris, packets) = cases();
-        let mut hits = 0;
+        let (mut hits, mut mixed) = (0, 0);
         for (rays, limits) in &packets {
             let rays8 = Ray8::new(rays);
+            mixed += usize::from(rays8.shared_axes.is_none());
             for (lane, tri) in tris.iter().enumerate() {
                 let (t, u, v, mask) = block.hits8(lane, &rays8, limits);
                 for (k, r) in rays.iter().enumerate() {
@@ -183,6 +240,7 @@ pub(crate) mod tests {
             }
         }
         assert!(hits > 100, "{hits} hits: too few to test the lanes");
+        assert!(mixed >= 20, "{mixed} packets of rays with different axes");
     }
 
     /// The second block of [`pair_hits`]: the first one's triangles in reverse order,
@@ -199,7 +257,7 @@ pub(crate) mod tests {
         let mut hits = 0;
         for (rays, limits) in &packets {
             for (r, &t_max) in rays.iter().zip(limits) {
-                let (t, u, v, mask) = pair_hits(&first, &second, r, t_max);
+                let (t, u, v, mask) = pair_hits(&first, &second, &Ray4::new(r), t_max);
                 assert_eq!(mask & 0x80, 0, "the empty lane is never hit");
                 for (lane, tri) in lanes.iter().enumerate() {
                     let want = tri.intersect(r, t_max);

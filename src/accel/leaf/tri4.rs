@@ -1,43 +1,51 @@
 //! Leaf blocks of four triangles in structure-of-arrays form, intersected together.
 //!
 //! A BVH leaf made only of triangles is stored as one or more [`Tri4`] blocks; one
-//! Möller–Trumbore test over four lanes replaces four scalar ones (and two blocks go
-//! through one eight-lane test, `ray8::pair_hits`). Every lane
-//! performs exactly the scalar [`Triangle::intersect`] arithmetic (same operations in
-//! the same order, no fused multiply-add), so hits, distances and barycentrics are
-//! bit-identical to the scalar test's, and ties go to the lowest lane as they go to
-//! the first primitive in the scalar loop.
+//! watertight test over four lanes replaces four scalar ones (and two blocks go
+//! through one eight-lane test, `ray8::pair_hits`). Every lane performs exactly the
+//! scalar [`Triangle::intersect`] arithmetic (the one generic function
+//! [`watertight`], same operations in the same order, no fused multiply-add), so
+//! hits, distances and barycentrics are bit-identical to the scalar test's, and ties
+//! go to the lowest lane as they go to the first primitive in the scalar loop.
 
-use std::ops::{Add, BitAnd, Div, Mul, Sub};
+use std::ops::{Add, Mul, Sub};
 
-use wide::{f32x4, f32x8};
+use wide::f32x4;
 
+use crate::geometry::watertight::{watertight, Sheared};
 use crate::geometry::{Hit, Triangle};
 use crate::math::Ray;
 
 /// Lanes per block.
 pub const LANES: usize = 4;
 
-/// Up to four triangles: `v0`, `e1 = v1 − v0`, `e2 = v2 − v0` per lane, `[axis][lane]`,
-/// and the index of each lane's primitive. Unused lanes have zero edges (a zero
-/// determinant, never hit) and primitive index `u32::MAX`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Up to four triangles: the vertices `v0`, `v1`, `v2` per lane, `[axis][lane]`, and
+/// the index of each lane's primitive. Unused lanes have NaN vertices (a NaN
+/// distance, never hit, and no edge function exactly zero to recompute) and
+/// primitive index `u32::MAX`.
+#[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 pub struct Tri4 {
     pub(in crate::accel) v0: [[f32; LANES]; 3],
-    pub(in crate::accel) e1: [[f32; LANES]; 3],
-    pub(in crate::accel) e2: [[f32; LANES]; 3],
+    pub(in crate::accel) v1: [[f32; LANES]; 3],
+    pub(in crate::accel) v2: [[f32; LANES]; 3],
     /// Primitive index of each lane in the BVH's primitive array.
     pub prim: [u32; LANES],
 }
 
 const _: () = assert!(std::mem::size_of::<Tri4>() == 160);
 
-/// A ray broadcast to four lanes.
+/// A ray broadcast to four lanes, and prepared for the triangle test.
 #[derive(Clone, Copy)]
 pub struct Ray4 {
     pub(in crate::accel) origin: [f32x4; 3],
     pub(in crate::accel) dir: [f32x4; 3],
+    /// The ray in the triangle test's frame.
+    pub(in crate::accel) sheared: Sheared,
+    /// [`Sheared::origin`] broadcast.
+    pub(in crate::accel) sheared_origin: [f32x4; 3],
+    /// [`Sheared::shear`] broadcast.
+    pub(in crate::accel) shear: [f32x4; 3],
 }
 
 impl Ray4 {
@@ -45,9 +53,13 @@ impl Ray4 {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
         let (o, d) = (ray.origin, ray.dir);
+        let sheared = Sheared::new(ray);
         Ray4 {
             origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
             dir: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
+            sheared,
+            sheared_origin: sheared.origin.map(f32x4::splat),
+            shear: sheared.shear.map(f32x4::splat),
         }
     }
 }
@@ -71,102 +83,6 @@ pub(in crate::accel) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[
 #[inline(always)]
 pub(in crate::accel) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// Möller–Trumbore on SIMD lanes (a vector of rays or of triangles), with the
-/// operations of `Triangle::intersect` in their order: `(det, t, u, v)`, the hit
-/// still to be accepted (`det ≠ 0`, `u, v ≥ 0`, `u + v ≤ 1`, `0 < t < t_max`).
-#[inline(always)]
-pub(in crate::accel) fn moller_trumbore<T>(
-    origin: &[T; 3],
-    dir: &[T; 3],
-    v0: &[T; 3],
-    e1: &[T; 3],
-    e2: &[T; 3],
-    one: T,
-) -> [T; 4]
-where
-    T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Div<Output = T>,
-{
-    let p = cross(dir, e2);
-    let det = dot(e1, &p);
-    let inv_det = one / det;
-    let s = [origin[0] - v0[0], origin[1] - v0[1], origin[2] - v0[2]];
-    let u = dot(&s, &p) * inv_det;
-    let q = cross(&s, e1);
-    let v = dot(dir, &q) * inv_det;
-    let t = dot(e2, &q) * inv_det;
-    [det, t, u, v]
-}
-
-/// The comparisons of the triangle test's acceptance, on four lanes or eight: each
-/// gives a mask (all ones where true), combined with `&` and read out once as bits.
-pub(in crate::accel) trait Accept:
-    Copy + Add<Output = Self> + BitAnd<Output = Self>
-{
-    /// Zero in every lane.
-    const ZERO: Self;
-    /// One in every lane.
-    const ONE: Self;
-    /// `self != rhs` per lane (true on NaN, as `!=`).
-    fn ne(self, rhs: Self) -> Self;
-    /// `self >= rhs` per lane (false on NaN).
-    fn ge(self, rhs: Self) -> Self;
-    /// `self <= rhs` per lane (false on NaN).
-    fn le(self, rhs: Self) -> Self;
-    /// `self > rhs` per lane (false on NaN).
-    fn gt(self, rhs: Self) -> Self;
-    /// `self < rhs` per lane (false on NaN).
-    fn lt(self, rhs: Self) -> Self;
-    /// A mask's lanes as bits.
-    fn bits(self) -> u32;
-}
-
-macro_rules! accept {
-    ($t:ty) => {
-        impl Accept for $t {
-            const ZERO: Self = <$t>::ZERO;
-            const ONE: Self = <$t>::ONE;
-            #[inline(always)]
-            fn ne(self, rhs: Self) -> Self {
-                self.simd_ne(rhs)
-            }
-            #[inline(always)]
-            fn ge(self, rhs: Self) -> Self {
-                self.simd_ge(rhs)
-            }
-            #[inline(always)]
-            fn le(self, rhs: Self) -> Self {
-                self.simd_le(rhs)
-            }
-            #[inline(always)]
-            fn gt(self, rhs: Self) -> Self {
-                self.simd_gt(rhs)
-            }
-            #[inline(always)]
-            fn lt(self, rhs: Self) -> Self {
-                self.simd_lt(rhs)
-            }
-            #[inline(always)]
-            fn bits(self) -> u32 {
-                self.to_bitmask()
-            }
-        }
-    };
-}
-
-accept!(f32x4);
-accept!(f32x8);
-
-/// The lanes (as bits) of a Möller–Trumbore result `[det, t, u, v]` that the scalar
-/// [`Triangle::intersect`] accepts: `det ≠ 0`, `0 ≤ u ≤ 1`, `v ≥ 0`, `u + v ≤ 1` and
-/// `0 < t < limit`. Comparisons with a NaN are false (`≠` true), so NaN lanes drop out
-/// as in the scalar test.
-#[inline(always)]
-pub(in crate::accel) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
-    let (zero, one) = (T::ZERO, T::ONE);
-    let ok = det.ne(zero) & u.ge(zero) & u.le(one) & v.ge(zero) & (u + v).le(one) & t.gt(zero) & t.lt(limit);
-    ok.bits()
 }
 
 /// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
@@ -194,21 +110,16 @@ impl Tri4 {
             "a block holds at most {LANES} triangles"
         );
         let mut block = Tri4 {
-            v0: [[0.0; LANES]; 3],
-            e1: [[0.0; LANES]; 3],
-            e2: [[0.0; LANES]; 3],
+            v0: [[f32::NAN; LANES]; 3],
+            v1: [[f32::NAN; LANES]; 3],
+            v2: [[f32::NAN; LANES]; 3],
             prim: [u32::MAX; LANES],
         };
         for (lane, (t, prim)) in triangles.iter().enumerate() {
-            for (axis, (v0, (e1, e2))) in
-                t.v0.to_array()
-                    .into_iter()
-                    .zip(t.e1.to_array().into_iter().zip(t.e2.to_array()))
-                    .enumerate()
-            {
-                block.v0[axis][lane] = v0;
-                block.e1[axis][lane] = e1;
-                block.e2[axis][lane] = e2;
+            for axis in 0..3 {
+                block.v0[axis][lane] = t.v0[axis];
+                block.v1[axis][lane] = t.v1[axis];
+                block.v2[axis][lane] = t.v2[axis];
             }
             block.prim[lane] = *prim;
         }
@@ -217,18 +128,18 @@ impl Tri4 {
 }
 
 impl Block for Tri4 {
-    /// Möller–Trumbore on the four lanes (see [`moller_trumbore`]).
+    /// The watertight test on the four lanes (see [`watertight`]).
     #[inline(always)]
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
-        let [det, t, u, v] = moller_trumbore(
-            &ray.origin,
-            &ray.dir,
-            &self.v0.map(|a| load(&a)),
-            &self.e1.map(|a| load(&a)),
-            &self.e2.map(|a| load(&a)),
-            f32x4::ONE,
-        );
-        (t, u, v, accepted([det, t, u, v], f32x4::splat(t_max)))
+        let vertex = |v: &[[f32; LANES]; 3]| ray.sheared.permute(v).map(|a| load(&a));
+        watertight(
+            &ray.sheared_origin,
+            &ray.shear,
+            &vertex(&self.v0),
+            &vertex(&self.v1),
+            &vertex(&self.v2),
+            f32x4::splat(t_max),
+        )
     }
 
     #[inline(always)]

@@ -3,7 +3,7 @@
 //! The release build targets baseline x86_64 (SSE2), where `wide::f32x8` is two SSE
 //! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`],
 //! [`Bvh::occluded`] and [`Bvh::closest_hit_packet`] run copies of themselves compiled
-//! for AVX2, whose eight-lane slab test (and the eight-lane triangle tests: two blocks
+//! for AVX2, whose eight-lane slab test (and the eight-lane watertight triangle tests: two blocks
 //! against a ray, one triangle against a packet's rays) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
 //! for operation and operand for operand (no fused multiply-add), so every answer and
@@ -19,15 +19,16 @@
 use std::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
     _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
-    _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps, _mm_storeu_ps,
-    _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps,
+    _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
 use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
-use crate::accel::leaf::tri4::Tri4;
+use crate::accel::leaf::tri4::{Ray4, Tri4};
+use crate::geometry::watertight::exact_lanes;
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -108,7 +109,7 @@ impl Kernels for Avx {
     }
 
     #[inline(always)]
-    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
         // SAFETY: as in `entries`.
         unsafe { pair_avx(first, second, ray, t_max) }
     }
@@ -137,97 +138,113 @@ fn store8(v: __m256) -> [f32; 8] {
     lanes
 }
 
-/// `Tri4::hits8` in AVX registers (see [`moller_trumbore8`]).
+/// `Tri4::hits8` in AVX registers (see [`watertight8`]).
 #[target_feature(enable = "avx")]
 fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
-    let tri = |a: &[[f32; 4]; 3]| [0, 1, 2].map(|axis| _mm256_set1_ps(a[axis][lane]));
-    let o = [
-        load8(&rays.origin[0]),
-        load8(&rays.origin[1]),
-        load8(&rays.origin[2]),
-    ];
-    let d = [load8(&rays.dir[0]), load8(&rays.dir[1]), load8(&rays.dir[2])];
-    moller_trumbore8(
-        o,
-        d,
-        tri(&block.v0),
-        tri(&block.e1),
-        tri(&block.e2),
+    let v = match rays.shared_axes {
+        Some(axes) => {
+            [&block.v0, &block.v1, &block.v2].map(|v| axes.map(|axis| _mm256_set1_ps(v[axis][lane])))
+        }
+        None => rays.gather(block, lane).map(|v| v.each_ref().map(|x| load8(x))),
+    };
+    watertight8(
+        rays.sheared_origin.each_ref().map(|x| load8(x)),
+        rays.shear.each_ref().map(|x| load8(x)),
+        v,
         load8(limits),
     )
 }
 
-/// `ray8::pair_hits` in AVX registers (see [`moller_trumbore8`]).
+/// `ray8::pair_hits` in AVX registers (see [`watertight8`]).
 #[target_feature(enable = "avx")]
-fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
-    // SAFETY: each block array holds four f32, the width of one 128-bit load.
+fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let axes = ray.sheared.axes;
+    // SAFETY: each block row holds four f32, the width of one 128-bit load.
     let both = |a: &[[f32; 4]; 3], b: &[[f32; 4]; 3]| {
-        [0, 1, 2].map(|axis| unsafe { _mm256_loadu2_m128(b[axis].as_ptr(), a[axis].as_ptr()) })
+        axes.map(|axis| unsafe { _mm256_loadu2_m128(b[axis].as_ptr(), a[axis].as_ptr()) })
     };
-    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
-    moller_trumbore8(
-        o.map(|x| _mm256_set1_ps(x)),
-        d.map(|x| _mm256_set1_ps(x)),
-        both(&first.v0, &second.v0),
-        both(&first.e1, &second.e1),
-        both(&first.e2, &second.e2),
+    watertight8(
+        ray.sheared.origin.map(|x| _mm256_set1_ps(x)),
+        ray.sheared.shear.map(|x| _mm256_set1_ps(x)),
+        [
+            both(&first.v0, &second.v0),
+            both(&first.v1, &second.v1),
+            both(&first.v2, &second.v2),
+        ],
         _mm256_set1_ps(t_max),
     )
 }
 
-/// Möller–Trumbore and the acceptance of `Tri4::test` on eight lanes of rays and
-/// triangles, below `limit`, in AVX registers, operation for operation (`simd_ne` is
-/// the unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
+/// The watertight test (`geometry::watertight::watertight`) and its acceptance on
+/// eight lanes of rays and triangles, below `limit`, in AVX registers, operation for
+/// operation (`simd_ne` is the unordered not-equal of `cmpneqps`; the other
+/// comparisons are ordered, false on NaN; `min` and `max` are `minps` and `maxps`,
+/// as `fast_min` and `fast_max`), and with the same `f64` recomputation of the edge
+/// functions that come out zero.
 #[target_feature(enable = "avx")]
 #[inline]
-fn moller_trumbore8(
-    o: [__m256; 3],
-    d: [__m256; 3],
-    v0: [__m256; 3],
-    e1: [__m256; 3],
-    e2: [__m256; 3],
-    limit: __m256,
-) -> Hits8 {
+fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Hits8 {
     let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
-    let cross = |a: &[__m256; 3], b: &[__m256; 3]| {
+    let [sx, sy, sz] = shear;
+    let relative = |p: &[__m256; 3]| {
         [
-            sub(mul(a[1], b[2]), mul(a[2], b[1])),
-            sub(mul(a[2], b[0]), mul(a[0], b[2])),
-            sub(mul(a[0], b[1]), mul(a[1], b[0])),
+            sub(p[0], origin[0]),
+            sub(p[1], origin[1]),
+            sub(p[2], origin[2]),
         ]
     };
-    let dot = |a: &[__m256; 3], b: &[__m256; 3]| add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
-    let p = cross(&d, &e2);
-    let det = dot(&e1, &p);
-    let one = _mm256_set1_ps(1.0);
+    let (a, b, c) = (relative(&v[0]), relative(&v[1]), relative(&v[2]));
+    let sheared = |p: &[__m256; 3]| (sub(p[0], mul(sx, p[2])), sub(p[1], mul(sy, p[2])));
+    let (a_xy, b_xy, c_xy) = (sheared(&a), sheared(&b), sheared(&c));
+    let edge = |(px, py): (__m256, __m256), (qx, qy): (__m256, __m256)| sub(mul(qx, py), mul(qy, px));
+    let mut e = [edge(b_xy, c_xy), edge(c_xy, a_xy), edge(a_xy, b_xy)];
     let zero = _mm256_setzero_ps();
-    let inv_det = _mm256_div_ps(one, det);
-    let s = [sub(o[0], v0[0]), sub(o[1], v0[1]), sub(o[2], v0[2])];
-    let u = mul(dot(&s, &p), inv_det);
-    let q = cross(&s, &e1);
-    let v = mul(dot(&d, &q), inv_det);
-    let t = mul(dot(&e2, &q), inv_det);
+    let is_zero = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
+    let or = _mm256_or_ps;
+    let zeros = _mm256_movemask_ps(or(or(is_zero(e[0]), is_zero(e[1])), is_zero(e[2]))) as u32;
+    if zeros != 0 {
+        e = exact_edges8(zeros, [a_xy.0, a_xy.1, b_xy.0, b_xy.1, c_xy.0, c_xy.1], e);
+    }
+    let [e0, e1, e2] = e;
+    let det = add(add(e0, e1), e2);
+    let t_scaled = add(
+        add(mul(e0, mul(sz, a[2])), mul(e1, mul(sz, b[2]))),
+        mul(e2, mul(sz, c[2])),
+    );
+    let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
+    let t = mul(t_scaled, inv_det);
     let and = _mm256_and_ps;
+    let (min, max) = (_mm256_min_ps, _mm256_max_ps);
+    let same_sign = or(
+        _mm256_cmp_ps::<_CMP_GE_OQ>(min(min(e0, e1), e2), zero),
+        _mm256_cmp_ps::<_CMP_LE_OQ>(max(max(e0, e1), e2), zero),
+    );
     let ok = and(
         and(
-            and(
-                _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero),
-                _mm256_cmp_ps::<_CMP_GE_OQ>(u, zero),
-            ),
-            and(
-                _mm256_cmp_ps::<_CMP_LE_OQ>(u, one),
-                _mm256_cmp_ps::<_CMP_GE_OQ>(v, zero),
-            ),
+            and(same_sign, _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero)),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
         ),
-        and(
-            and(
-                _mm256_cmp_ps::<_CMP_LE_OQ>(add(u, v), one),
-                _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
-            ),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
-        ),
+        _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
     );
-    (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
+    (
+        store8(t),
+        store8(mul(e1, inv_det)),
+        store8(mul(e2, inv_det)),
+        _mm256_movemask_ps(ok) as u32,
+    )
+}
+
+/// [`watertight8`]'s edge functions `e` with those that are zero in the lanes of
+/// `mask` recomputed in `f64` (`exact_lanes`, as the portable test does).
+#[target_feature(enable = "avx")]
+#[cold]
+#[inline(never)]
+fn exact_edges8(mask: u32, xy: [__m256; 6], e: [__m256; 3]) -> [__m256; 3] {
+    let xy = xy.map(|x| store8(x));
+    let mut e = e.map(|x| store8(x));
+    let [e0, e1, e2] = &mut e;
+    exact_lanes(mask, xy.each_ref().map(|a| &a[..]), [e0, e1, e2]);
+    e.each_ref().map(|x| load8(x))
 }
 
 /// `Node8::slabs` in AVX registers: the entry and exit distances of `r` for
@@ -356,8 +373,9 @@ mod tests {
         let mut hits = 0;
         for (rays, limits) in &packets {
             for (r, &t_max) in rays.iter().zip(limits) {
-                let (pt, pu, pv, pm) = Portable.pair(&first, &second, r, t_max);
-                let (at, au, av, am) = avx.pair(&first, &second, r, t_max);
+                let r4 = Ray4::new(r);
+                let (pt, pu, pv, pm) = Portable.pair(&first, &second, &r4, t_max);
+                let (at, au, av, am) = avx.pair(&first, &second, &r4, t_max);
                 assert_eq!(pm, am);
                 for k in 0..8 {
                     if pm & (1 << k) != 0 {
