@@ -121,7 +121,7 @@ impl Triangle {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     const INF: f32 = f32::INFINITY;
@@ -183,6 +183,33 @@ mod tests {
         ] {
             assert!(t.intersect(&down_at(x, y), INF).is_some(), "({x}, {y})");
         }
+    }
+
+    /// Two triangles on either side of an edge that passes 2^-46 / √8 beside the ray
+    /// (along +z from the origin): the edge function rounds to zero in `f32` (where
+    /// both triangles would be hit), while its exact value, recomputed in `f64`, puts
+    /// the ray on the first triangle's side only. The ray, the triangle hit and the
+    /// one missed.
+    pub(crate) fn split_by_a_near_edge() -> (Ray, Triangle, Triangle) {
+        let e = f32::EPSILON;
+        let b = Vec3::new(-1.0, -(1.0 + e), 1.0);
+        let c = Vec3::new(1.0 + e, 1.0 + 2.0 * e, 1.0);
+        let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0));
+        let hit = Triangle::new(Vec3::new(-1.0, 1.0, 1.0), b, c, Triangle::FLAT);
+        let missed = Triangle::new(Vec3::new(1.0, -1.0, 1.0), c, b, Triangle::FLAT);
+        (ray, hit, missed)
+    }
+
+    #[test]
+    fn an_edge_function_rounded_to_zero_gets_its_exact_sign() {
+        let (ray, hit, missed) = split_by_a_near_edge();
+        // In f32 the edge function of b, c is zero: cx·by and cy·bx both round to
+        // −(1 + 2ε).
+        let (b, c) = (hit.v1, hit.v2);
+        assert_eq!(c.x * b.y - c.y * b.x, 0.0);
+        let h = hit.intersect(&ray, INF).unwrap();
+        assert_eq!(h.t, 1.0);
+        assert_eq!(missed.intersect(&ray, INF), None);
     }
 
     #[test]

@@ -104,7 +104,9 @@ impl Tri4 {
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
         let v = match rays.shared_axes {
-            Some(axes) => [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis][lane]))),
+            Some(axes) => {
+                [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis][lane])))
+            }
             None => rays.gather(self, lane).map(|v| v.map(f32x8::from)),
         };
         test8(
@@ -241,6 +243,24 @@ pub(crate) mod tests {
         }
         assert!(hits > 100, "{hits} hits: too few to test the lanes");
         assert!(mixed >= 20, "{mixed} packets of rays with different axes");
+    }
+
+    /// One triangle against eight rays and two blocks against one ray, where an edge
+    /// function rounds to zero: the `f64` recomputation in the lanes that need it
+    /// (see `tri4`'s test of the same).
+    #[test]
+    fn eight_lanes_recompute_edge_functions_rounded_to_zero() {
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (hit, 1)]);
+        let other = Ray::new(Vec3::new(0.1, -0.3, 0.0), Vec3::new(0.0, 0.0, 1.0));
+        let rays = [ray, other, ray, ray, other, ray, ray, other];
+        let rays8 = Ray8::new(&rays);
+        let limits = [f32::INFINITY; RAYS];
+        assert_eq!(block.hits8(0, &rays8, &limits).3, 0b1001_0010);
+        assert_eq!(block.hits8(1, &rays8, &limits).3, 0b0110_1101);
+        let (t, _, _, mask) = pair_hits(&block, &block, &Ray4::new(&ray), f32::INFINITY);
+        assert_eq!(mask, 0b0010_0010);
+        assert_eq!(t[1], hit.intersect(&ray, f32::INFINITY).unwrap().t);
     }
 
     /// The second block of [`pair_hits`]: the first one's triangles in reverse order,

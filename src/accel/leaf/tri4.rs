@@ -281,6 +281,88 @@ mod tests {
         assert!(block.any_hit(&ray, 2.5));
     }
 
+    /// A lane whose edge function rounds to zero goes through the scalar `f64`
+    /// recomputation, and only that lane: the triangle on the ray's side of the edge
+    /// is hit, its neighbour across it is not, as in the scalar test.
+    #[test]
+    fn an_edge_function_rounded_to_zero_is_recomputed_as_in_the_scalar_test() {
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (tri(3.0, 1.0), 1), (hit, 2), (missed, 3)]);
+        let ray4 = Ray4::new(&ray);
+        let (t, _, _, mask) = block.test(&ray4, f32::INFINITY);
+        assert_eq!(mask, 0b0110);
+        assert_eq!(
+            block.closest_hit(&ray4, f32::INFINITY),
+            Some((hit.intersect(&ray, f32::INFINITY).unwrap(), 2))
+        );
+        assert_eq!(t.to_array()[1], 3.0);
+    }
+
+    /// Rays straight down and slanted through the vertices and along the edges of a
+    /// grid of triangles, where edge functions come out exactly zero (and stay zero
+    /// in `f64`): every lane agrees with the scalar test, distance and barycentrics
+    /// bit for bit.
+    #[test]
+    fn lanes_match_the_scalar_test_on_edges_and_vertices() {
+        let mut tris = Vec::new();
+        for i in 0..3 {
+            for j in 0..2 {
+                let (x, y) = (i as f32, j as f32);
+                let z = |x: f32, y: f32| 0.25 * x - 0.5 * y;
+                let p = |x: f32, y: f32| Vec3::new(x, y, z(x, y));
+                tris.push(Triangle::new(
+                    p(x, y),
+                    p(x + 1.0, y),
+                    p(x, y + 1.0),
+                    Triangle::FLAT,
+                ));
+                tris.push(Triangle::new(
+                    p(x + 1.0, y),
+                    p(x + 1.0, y + 1.0),
+                    p(x, y + 1.0),
+                    Triangle::FLAT,
+                ));
+            }
+        }
+        let mut hits = 0;
+        for block_tris in tris.chunks(LANES) {
+            let block = Tri4::new(
+                &block_tris
+                    .iter()
+                    .enumerate()
+                    .map(|(k, t)| (*t, k as u32))
+                    .collect::<Vec<_>>(),
+            );
+            for i in 0..=6 {
+                for j in 0..=4 {
+                    let (x, y) = (i as f32 * 0.5, j as f32 * 0.5);
+                    for d in [
+                        Vec3::new(0.0, 0.0, -1.0),
+                        Vec3::new(0.5, -0.25, -1.0),
+                        Vec3::new(-2.0, 1.0, -1.0),
+                    ] {
+                        let ray = Ray::new(Vec3::new(x, y, 0.25 * x - 0.5 * y) - d * 3.0, d);
+                        let (t, u, v, mask) = block.test(&Ray4::new(&ray), f32::INFINITY);
+                        for (k, tri) in block_tris.iter().enumerate() {
+                            let want = tri.intersect(&ray, f32::INFINITY);
+                            assert_eq!(mask & 1 << k != 0, want.is_some(), "lane {k}, ray {ray:?}");
+                            if let Some(h) = want {
+                                let got = (t.to_array()[k], u.to_array()[k], v.to_array()[k]);
+                                assert_eq!(got.0.to_bits(), h.t.to_bits());
+                                assert_eq!(
+                                    (got.1.to_bits(), got.2.to_bits()),
+                                    (h.u.to_bits(), h.v.to_bits())
+                                );
+                                hits += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits} hits");
+    }
+
     #[test]
     fn empty_lanes_are_never_hit() {
         let block = Tri4::new(&[]);

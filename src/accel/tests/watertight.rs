@@ -110,7 +110,11 @@ fn icosphere(levels: u32) -> Mesh {
         faces = faces
             .iter()
             .flat_map(|&[a, b, c]| {
-                let (ab, bc, ca) = (mid(a, b, &mut verts), mid(b, c, &mut verts), mid(c, a, &mut verts));
+                let (ab, bc, ca) = (
+                    mid(a, b, &mut verts),
+                    mid(b, c, &mut verts),
+                    mid(c, a, &mut verts),
+                );
                 [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
             })
             .collect();
@@ -243,7 +247,11 @@ fn slips(mesh: &Mesh, convex: bool, seed: u64, targets: usize) -> Slips {
                     break;
                 }
                 // A point on an edge of `f` from `p`, near `p`.
-                let other = mesh.faces[f].iter().map(|&i| mesh.verts[i]).find(|&q| q != p).unwrap();
+                let other = mesh.faces[f]
+                    .iter()
+                    .map(|&i| mesh.verts[i])
+                    .find(|&q| q != p)
+                    .unwrap();
                 points.push(p + (other - p) * (rnd() * 0.1));
             }
             while points.len() < 8 {

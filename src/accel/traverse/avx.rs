@@ -186,13 +186,7 @@ fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
 fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Hits8 {
     let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
     let [sx, sy, sz] = shear;
-    let relative = |p: &[__m256; 3]| {
-        [
-            sub(p[0], origin[0]),
-            sub(p[1], origin[1]),
-            sub(p[2], origin[2]),
-        ]
-    };
+    let relative = |p: &[__m256; 3]| [sub(p[0], origin[0]), sub(p[1], origin[1]), sub(p[2], origin[2])];
     let (a, b, c) = (relative(&v[0]), relative(&v[1]), relative(&v[2]));
     let sheared = |p: &[__m256; 3]| (sub(p[0], mul(sx, p[2])), sub(p[1], mul(sy, p[2])));
     let (a_xy, b_xy, c_xy) = (sheared(&a), sheared(&b), sheared(&c));
@@ -387,5 +381,41 @@ mod tests {
             }
         }
         assert!(hits > 100, "{hits} hits: too few to compare");
+    }
+
+    /// The AVX kernels recompute the edge functions rounded to zero as the portable
+    /// ones do.
+    #[test]
+    fn avx_recomputes_zero_edge_functions_as_the_portable_kernels_do() {
+        let Some(avx) = Avx::detect() else {
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (hit, 1)]);
+        let other = Ray::new(Vec3::new(0.1, -0.3, 0.0), Vec3::new(0.0, 0.0, 1.0));
+        let rays8 = Ray8::new(&[ray, other, ray, ray, other, ray, ray, other]);
+        let limits = [f32::INFINITY; RAYS];
+        let bits = |(t, u, v, m): Hits8| (t.map(f32::to_bits), u.map(f32::to_bits), v.map(f32::to_bits), m);
+        for lane in 0..2 {
+            let portable = Portable.hits8(&block, lane, &rays8, &limits);
+            assert_ne!(portable.3, 0);
+            assert_eq!(bits(avx.hits8(&block, lane, &rays8, &limits)), bits(portable));
+        }
+        let r4 = Ray4::new(&ray);
+        let portable = Portable.pair(&block, &block, &r4, f32::INFINITY);
+        assert_eq!(portable.3, 0b0010_0010);
+        let (t, u, v, m) = avx.pair(&block, &block, &r4, f32::INFINITY);
+        assert_eq!(m, portable.3);
+        for k in [1, 5] {
+            assert_eq!(
+                (t[k].to_bits(), u[k].to_bits(), v[k].to_bits()),
+                (
+                    portable.0[k].to_bits(),
+                    portable.1[k].to_bits(),
+                    portable.2[k].to_bits()
+                )
+            );
+        }
     }
 }

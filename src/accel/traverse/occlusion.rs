@@ -136,13 +136,7 @@ impl Bvh {
     /// The position in `blocks` of a triangle block lying on `ray4` with
     /// `0 < t < t_max`.
     #[inline(always)]
-    fn tri4_any<S: Kernels>(
-        &self,
-        kernels: S,
-        blocks: &[Tri4],
-        ray4: &Ray4,
-        t_max: f32,
-    ) -> Option<usize> {
+    fn tri4_any<S: Kernels>(&self, kernels: S, blocks: &[Tri4], ray4: &Ray4, t_max: f32) -> Option<usize> {
         let mut pairs = blocks.chunks_exact(2);
         for (k, pair) in (&mut pairs).enumerate() {
             let mask = kernels.pair(&pair[0], &pair[1], ray4, t_max).3;

@@ -245,13 +245,7 @@ impl Bvh {
 
     /// Offers to `nearest` the hits of `ray4` in triangle blocks.
     #[inline(always)]
-    fn tri4_closest<S: Kernels>(
-        &self,
-        kernels: S,
-        blocks: &[Tri4],
-        ray4: &Ray4,
-        nearest: &mut Nearest,
-    ) {
+    fn tri4_closest<S: Kernels>(&self, kernels: S, blocks: &[Tri4], ray4: &Ray4, nearest: &mut Nearest) {
         // Blocks two at a time (one eight-lane test), the last one alone.
         let mut pairs = blocks.chunks_exact(2);
         for pair in &mut pairs {
