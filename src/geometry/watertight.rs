@@ -37,44 +37,47 @@ use crate::math::Ray;
 /// A ray in the test's frame: the axes `kx, ky, kz` (`kz` the direction's largest
 /// component in magnitude, `kx, ky` the next two cyclically, swapped when the
 /// direction along `kz` is negative, which keeps the triangles' winding), the origin's
-/// coordinates on them, and the shear `(dx/dz, dy/dz, 1/dz)`.
+/// coordinates on them, and the shear `(dx/dz, dy/dz, 1/dz)`, computed as
+/// `(dx·Sz, dy·Sz, Sz)` with `Sz` the ray's `inv_dir` along `kz` (no division).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sheared {
     /// `[kx, ky, kz]`.
-    pub axes: [usize; 3],
+    pub axes: [u8; 3],
     /// The origin's coordinates along `axes`.
     pub origin: [f32; 3],
-    /// `[Sx, Sy, Sz] = [dx / dz, dy / dz, 1 / dz]` along `axes`.
+    /// `[Sx, Sy, Sz]` along `axes`.
     pub shear: [f32; 3],
 }
 
 impl Sheared {
-    /// Prepares `ray` (a zero direction gives NaN shears: no hits).
+    /// Prepares `ray` (a zero direction gives no hits). Without a branch: the axes of
+    /// random rays would be a branch mispredicted at every other query.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Sheared {
-        let kz = ray.dir.dominant_axis();
+        /// `[kx, ky, kz]` by `2 kz + (direction along kz < 0)`.
+        const AXES: [[u8; 3]; 6] = [[1, 2, 0], [2, 1, 0], [2, 0, 1], [0, 2, 1], [0, 1, 2], [1, 0, 2]];
         let d = ray.dir.to_array();
-        let (kx, ky) = match (kz, d[kz] < 0.0) {
-            (0, false) => (1, 2),
-            (0, true) => (2, 1),
-            (1, false) => (2, 0),
-            (1, true) => (0, 2),
-            (_, false) => (0, 1),
-            (_, true) => (1, 0),
-        };
+        let a = ray.dir.abs();
+        // `Vec3::dominant_axis`: x unless y or z is larger, then y unless z is larger.
+        let not_x = !(a.x >= a.y && a.x >= a.z);
+        let kz = usize::from(not_x) * (1 + usize::from(!(a.y >= a.z)));
+        let axes = AXES[2 * kz + usize::from(d[kz] < 0.0)];
+        let [kx, ky] = [axes[0] as usize, axes[1] as usize];
         let o = ray.origin.to_array();
-        let dz = d[kz];
+        // `1 / dz` (`dz`, the largest component, is below `TINY_DIR` only for a
+        // direction of next to nothing).
+        let sz = ray.inv_dir[kz];
         Sheared {
-            axes: [kx, ky, kz],
+            axes,
             origin: [o[kx], o[ky], o[kz]],
-            shear: [d[kx] / dz, d[ky] / dz, 1.0 / dz],
+            shear: [d[kx] * sz, d[ky] * sz, sz],
         }
     }
 
     /// `p`'s coordinates (or rows of lanes) in the order of [`Sheared::axes`].
     #[inline(always)]
     pub fn permute<X: Copy>(&self, p: &[X; 3]) -> [X; 3] {
-        self.axes.map(|axis| p[axis])
+        self.axes.map(|axis| p[axis as usize])
     }
 }
 
@@ -309,6 +312,41 @@ pub(crate) fn exact_lanes(mut mask: u32, xy: [&[f32]; 6], e: [&mut [f32]; 3]) {
         for (value, (p, q)) in [(&mut e0[k], (b, c)), (&mut e1[k], (c, a)), (&mut e2[k], (a, b))] {
             if *value == 0.0 {
                 *value = exact(p, q);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    /// The axes: `kz` as `Vec3::dominant_axis` (ties included), then the next two
+    /// cyclically, swapped for a negative `dz`; the shear from `inv_dir`.
+    #[test]
+    fn axes_and_shear() {
+        for (d, axes) in [
+            ((1.0, 0.5, 0.25), [1, 2, 0]),
+            ((-1.0, 0.5, 0.25), [2, 1, 0]),
+            ((0.1, 2.0, -1.0), [2, 0, 1]),
+            ((0.1, -2.0, -1.0), [0, 2, 1]),
+            ((0.1, 0.2, 0.3), [0, 1, 2]),
+            ((0.1, 0.2, -0.3), [1, 0, 2]),
+            ((1.0, 1.0, 1.0), [1, 2, 0]),
+            ((0.5, -1.0, 1.0), [0, 2, 1]),
+            ((0.0, 0.0, 0.0), [1, 2, 0]),
+        ] {
+            let dir = Vec3::new(d.0, d.1, d.2);
+            let ray = Ray::new(Vec3::new(1.0, 2.0, 3.0), dir);
+            let s = Sheared::new(&ray);
+            assert_eq!(s.axes, axes, "{dir:?}");
+            assert_eq!(usize::from(s.axes[2]), dir.dominant_axis(), "{dir:?}");
+            assert_eq!(s.origin, s.permute(&[1.0, 2.0, 3.0]));
+            let p = s.permute(&dir.to_array());
+            if p[2] != 0.0 {
+                let sz = 1.0 / p[2];
+                assert_eq!(s.shear, [p[0] * sz, p[1] * sz, sz], "{dir:?}");
             }
         }
     }

@@ -32,9 +32,9 @@ pub struct Ray8 {
     /// Each ray's [`Sheared::shear`], `[axis][ray]`.
     pub shear: [[f32; RAYS]; 3],
     /// Each ray's [`Sheared::axes`].
-    pub axes: [[usize; 3]; RAYS],
+    pub axes: [[u8; 3]; RAYS],
     /// The axes, when all eight rays have the same.
-    pub shared_axes: Option<[usize; 3]>,
+    pub shared_axes: Option<[u8; 3]>,
 }
 
 impl Ray8 {
@@ -78,7 +78,7 @@ impl Ray8 {
         for (vertex, v) in [&block.v0, &block.v1, &block.v2].into_iter().enumerate() {
             for k in 0..RAYS {
                 for (j, &axis) in self.axes[k].iter().enumerate() {
-                    out[vertex][j][k] = v[axis][lane];
+                    out[vertex][j][k] = v[axis as usize][lane];
                 }
             }
         }
@@ -105,7 +105,7 @@ impl Tri4 {
         debug_assert!(lane < LANES);
         let v = match rays.shared_axes {
             Some(axes) => {
-                [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis][lane])))
+                [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis as usize][lane])))
             }
             None => rays.gather(self, lane).map(|v| v.map(f32x8::from)),
         };
@@ -127,8 +127,8 @@ pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
     let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
         axes.map(|axis| {
             let mut lanes = [0.0; RAYS];
-            lanes[..LANES].copy_from_slice(&a[axis]);
-            lanes[LANES..].copy_from_slice(&b[axis]);
+            lanes[..LANES].copy_from_slice(&a[axis as usize]);
+            lanes[LANES..].copy_from_slice(&b[axis as usize]);
             f32x8::from(lanes)
         })
     };

@@ -42,10 +42,6 @@ pub struct Ray4 {
     pub(in crate::accel) dir: [f32x4; 3],
     /// The ray in the triangle test's frame.
     pub(in crate::accel) sheared: Sheared,
-    /// [`Sheared::origin`] broadcast.
-    pub(in crate::accel) sheared_origin: [f32x4; 3],
-    /// [`Sheared::shear`] broadcast.
-    pub(in crate::accel) shear: [f32x4; 3],
 }
 
 impl Ray4 {
@@ -53,13 +49,10 @@ impl Ray4 {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
         let (o, d) = (ray.origin, ray.dir);
-        let sheared = Sheared::new(ray);
         Ray4 {
             origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
             dir: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
-            sheared,
-            sheared_origin: sheared.origin.map(f32x4::splat),
-            shear: sheared.shear.map(f32x4::splat),
+            sheared: Sheared::new(ray),
         }
     }
 }
@@ -133,8 +126,8 @@ impl Block for Tri4 {
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
         let vertex = |v: &[[f32; LANES]; 3]| ray.sheared.permute(v).map(|a| load(&a));
         watertight(
-            &ray.sheared_origin,
-            &ray.shear,
+            &ray.sheared.origin.map(f32x4::splat),
+            &ray.sheared.shear.map(f32x4::splat),
             &vertex(&self.v0),
             &vertex(&self.v1),
             &vertex(&self.v2),

@@ -143,7 +143,7 @@ fn store8(v: __m256) -> [f32; 8] {
 fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
     let v = match rays.shared_axes {
         Some(axes) => {
-            [&block.v0, &block.v1, &block.v2].map(|v| axes.map(|axis| _mm256_set1_ps(v[axis][lane])))
+            [&block.v0, &block.v1, &block.v2].map(|v| axes.map(|axis| _mm256_set1_ps(v[axis as usize][lane])))
         }
         None => rays.gather(block, lane).map(|v| v.each_ref().map(|x| load8(x))),
     };
@@ -161,7 +161,7 @@ fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
     let axes = ray.sheared.axes;
     // SAFETY: each block row holds four f32, the width of one 128-bit load.
     let both = |a: &[[f32; 4]; 3], b: &[[f32; 4]; 3]| {
-        axes.map(|axis| unsafe { _mm256_loadu2_m128(b[axis].as_ptr(), a[axis].as_ptr()) })
+        axes.map(|axis| unsafe { _mm256_loadu2_m128(b[axis as usize].as_ptr(), a[axis as usize].as_ptr()) })
     };
     watertight8(
         ray.sheared.origin.map(|x| _mm256_set1_ps(x)),
