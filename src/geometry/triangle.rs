@@ -7,7 +7,7 @@
 //! the shared vertices, as a mesh's or a fan's have) hits at least one of them, in
 //! floating point and not only in exact arithmetic: closed meshes have no cracks.
 
-use super::watertight::{watertight, Sheared};
+use super::watertight::{watertight, watertight_exact, Sheared};
 use super::{GeometryData, Hit, Surface};
 use crate::math::{Aabb, Ray, Vec3};
 
@@ -69,15 +69,32 @@ impl Triangle {
     /// leaf blocks' lanes (see [`super::watertight`]).
     #[inline]
     pub fn intersect_sheared(&self, ray: &Sheared, t_max: f32) -> Option<Hit> {
-        let (t, u, v, hit) = watertight(
+        let (t, u, v, hit) = match watertight(
             &ray.origin,
             &ray.shear,
             &ray.permute(&self.v0.to_array()),
             &ray.permute(&self.v1.to_array()),
             &ray.permute(&self.v2.to_array()),
             t_max,
-        );
+        ) {
+            Some(found) => found,
+            None => self.intersect_exact(ray, t_max),
+        };
         (hit != 0).then_some(Hit { t, u, v })
+    }
+
+    /// [`Triangle::intersect_sheared`] when an edge function came out zero.
+    #[cold]
+    #[inline(never)]
+    fn intersect_exact(&self, ray: &Sheared, t_max: f32) -> (f32, f32, f32, u32) {
+        watertight_exact(
+            &ray.origin,
+            &ray.shear,
+            &ray.permute(&self.v0.to_array()),
+            &ray.permute(&self.v1.to_array()),
+            &ray.permute(&self.v2.to_array()),
+            t_max,
+        )
     }
 
     /// Phase two: the point (from the barycentrics, so it lies in the plane), the

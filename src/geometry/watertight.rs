@@ -26,13 +26,26 @@
 //! edge's value stays a function of the edge and the ray alone (a triangle whose
 //! other edge was zero would otherwise see a shared edge in `f64` and its neighbour
 //! in `f32`, possibly with opposite signs). Lanes with a zero go through the same
-//! scalar recomputation ([`exact_lanes`]).
+//! scalar recomputation ([`exact_lanes`], from [`watertight_exact`]).
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 
 use wide::{f32x4, f32x8};
 
-use crate::math::Ray;
+use crate::math::{Ray, Vec3};
+
+/// A coordinate axis (an index into a point's coordinates that needs no bounds
+/// check).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Axis {
+    /// The first coordinate.
+    X = 0,
+    /// The second.
+    Y = 1,
+    /// The third.
+    Z = 2,
+}
 
 /// A ray in the test's frame: the axes `kx, ky, kz` (`kz` the direction's largest
 /// component in magnitude, `kx, ky` the next two cyclically, swapped when the
@@ -42,7 +55,7 @@ use crate::math::Ray;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sheared {
     /// `[kx, ky, kz]`.
-    pub axes: [u8; 3],
+    pub axes: [Axis; 3],
     /// The origin's coordinates along `axes`.
     pub origin: [f32; 3],
     /// `[Sx, Sy, Sz]` along `axes`.
@@ -50,23 +63,39 @@ pub struct Sheared {
 }
 
 impl Sheared {
+    /// `[kx, ky, kz]` by `2 kz + (direction along kz < 0)` (and two unused rows,
+    /// for an index masked to three bits).
+    pub const AXES: [[Axis; 3]; 8] = {
+        use Axis::{X, Y, Z};
+        [
+            [Y, Z, X],
+            [Z, Y, X],
+            [Z, X, Y],
+            [X, Z, Y],
+            [X, Y, Z],
+            [Y, X, Z],
+            [Y, Z, X],
+            [Y, Z, X],
+        ]
+    };
+
     /// Prepares `ray` (a zero direction gives no hits). Without a branch: the axes of
     /// random rays would be a branch mispredicted at every other query.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Sheared {
-        /// `[kx, ky, kz]` by `2 kz + (direction along kz < 0)`.
-        const AXES: [[u8; 3]; 6] = [[1, 2, 0], [2, 1, 0], [2, 0, 1], [0, 2, 1], [0, 1, 2], [1, 0, 2]];
-        let d = ray.dir.to_array();
+        // (Arrays of four, indexed by an axis masked to two bits: no bounds checks.)
+        let four = |v: Vec3| [v.x, v.y, v.z, 0.0];
+        let (o, d, inv) = (four(ray.origin), four(ray.dir), four(ray.inv_dir));
         let a = ray.dir.abs();
         // `Vec3::dominant_axis`: x unless y or z is larger, then y unless z is larger.
         let not_x = !(a.x >= a.y && a.x >= a.z);
         let kz = usize::from(not_x) * (1 + usize::from(!(a.y >= a.z)));
-        let axes = AXES[2 * kz + usize::from(d[kz] < 0.0)];
-        let [kx, ky] = [axes[0] as usize, axes[1] as usize];
-        let o = ray.origin.to_array();
+        let signs = usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2;
+        let axes = Self::AXES[(2 * kz + (signs >> kz & 1)) & 7];
+        let [kx, ky, kz] = axes.map(|axis| axis as usize & 3);
         // `1 / dz` (`dz`, the largest component, is below `TINY_DIR` only for a
         // direction of next to nothing).
-        let sz = ray.inv_dir[kz];
+        let sz = inv[kz];
         Sheared {
             axes,
             origin: [o[kx], o[ky], o[kz]],
@@ -235,42 +264,52 @@ macro_rules! simd_lanes {
 simd_lanes!(f32x4, 4);
 simd_lanes!(f32x8, 8);
 
-/// The edge function of the edge from `p` to `q` (sheared `x, y`): `qx·py − qy·px`.
+/// The triangle in the ray's frame: its vertices relative to the origin and sheared,
+/// `[ax, ay, bx, by, cx, cy]`, and their distances along the third axis (not yet
+/// scaled by `Sz`), `[az, bz, cz]`.
 #[inline(always)]
-fn edge<T: Lanes>((px, py): (T, T), (qx, qy): (T, T)) -> T {
-    qx * py - qy * px
+fn frame<T: Lanes>(origin: &[T; 3], shear: &[T; 3], [v0, v1, v2]: [&[T; 3]; 3]) -> ([T; 6], [T; 3]) {
+    let [sx, sy, _] = *shear;
+    let [ox, oy, oz] = *origin;
+    let (ax, ay, az) = (v0[0] - ox, v0[1] - oy, v0[2] - oz);
+    let (bx, by, bz) = (v1[0] - ox, v1[1] - oy, v1[2] - oz);
+    let (cx, cy, cz) = (v2[0] - ox, v2[1] - oy, v2[2] - oz);
+    (
+        [
+            ax - sx * az,
+            ay - sy * az,
+            bx - sx * bz,
+            by - sy * bz,
+            cx - sx * cz,
+            cy - sy * cz,
+        ],
+        [az, bz, cz],
+    )
 }
 
-/// The test on lanes of (ray, triangle) pairs: `origin` and `shear` the rays'
-/// [`Sheared::origin`] and [`Sheared::shear`], `v0, v1, v2` the vertices permuted
-/// by the rays' [`Sheared::axes`]. Returns per lane the distance `t` and the
-/// barycentrics `u` (weight of `v1`) and `v` (weight of `v2`), and the lanes hit with
-/// `0 < t < limit` as bits (read `t`, `u`, `v` only there).
+/// The edge functions opposite `v0`, `v1` and `v2`, each `qx·py − qy·px` for the
+/// edge from `p` to `q` (the next two vertices).
 #[inline(always)]
-pub(crate) fn watertight<T: Lanes>(
-    origin: &[T; 3],
-    shear: &[T; 3],
-    v0: &[T; 3],
-    v1: &[T; 3],
-    v2: &[T; 3],
-    limit: T,
-) -> (T, T, T, u32) {
-    let [sx, sy, sz] = *shear;
-    let relative = |p: &[T; 3]| [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]];
-    let (a, b, c) = (relative(v0), relative(v1), relative(v2));
-    let sheared = |p: &[T; 3]| (p[0] - sx * p[2], p[1] - sy * p[2]);
-    let (a_xy, b_xy, c_xy) = (sheared(&a), sheared(&b), sheared(&c));
-    // The edge functions opposite `v0`, `v1` and `v2`.
-    let mut e = [edge(b_xy, c_xy), edge(c_xy, a_xy), edge(a_xy, b_xy)];
-    let zero = T::bits(e[0].eq(T::ZERO) | e[1].eq(T::ZERO) | e[2].eq(T::ZERO));
-    if zero != 0 {
-        e = exact_edges(zero, [a_xy.0, a_xy.1, b_xy.0, b_xy.1, c_xy.0, c_xy.1], e);
-    }
-    let [e0, e1, e2] = e;
+fn edges<T: Lanes>([ax, ay, bx, by, cx, cy]: [T; 6]) -> [T; 3] {
+    [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax]
+}
+
+/// The lanes (as bits) where an edge function is zero and the others share a sign
+/// or are zero too: there a zero's exact sign may decide (where two others have
+/// opposite signs, the ray misses whatever it is). The least times the greatest is
+/// zero there (or underflows to zero: a recomputation with nothing to do).
+#[inline(always)]
+fn zero_edge<T: Lanes>([e0, e1, e2]: [T; 3]) -> u32 {
+    T::bits((e0.min(e1).min(e2) * e0.max(e1).max(e2)).eq(T::ZERO))
+}
+
+/// The rest of the test from the edge functions `e`, the distances `z` and `Sz`.
+#[inline(always)]
+fn finish<T: Lanes>([e0, e1, e2]: [T; 3], [az, bz, cz]: [T; 3], sz: T, limit: T) -> (T, T, T, u32) {
     let det = e0 + e1 + e2;
-    let t_scaled = e0 * (sz * a[2]) + e1 * (sz * b[2]) + e2 * (sz * c[2]);
+    let t_unscaled = e0 * az + e1 * bz + e2 * cz;
     let inv_det = T::ONE / det;
-    let t = t_scaled * inv_det;
+    let t = t_unscaled * (sz * inv_det);
     // One sign for the three (zero counts as either), a triangle seen other than
     // edge-on, and the distance within bounds. Comparisons with a NaN are false
     // (`≠` true), and a NaN anywhere (an empty lane) makes `t` NaN: no hit.
@@ -279,11 +318,47 @@ pub(crate) fn watertight<T: Lanes>(
     (t, e1 * inv_det, e2 * inv_det, T::bits(ok))
 }
 
-/// `e` with the edge functions that are zero in the lanes of `mask` recomputed in
-/// `f64` ([`exact_lanes`]); `xy` holds the sheared `ax, ay, bx, by, cx, cy`.
-#[cold]
-#[inline(never)]
-fn exact_edges<T: Lanes>(mask: u32, xy: [T; 6], e: [T; 3]) -> [T; 3] {
+/// The test on lanes of (ray, triangle) pairs: `origin` and `shear` the rays'
+/// [`Sheared::origin`] and [`Sheared::shear`], `v0, v1, v2` the vertices permuted
+/// by the rays' [`Sheared::axes`]. Returns per lane the distance `t` and the
+/// barycentrics `u` (weight of `v1`) and `v` (weight of `v2`), and the lanes hit with
+/// `0 < t < limit` as bits (read `t`, `u`, `v` only there); or `None` when an edge
+/// function came out zero where its sign may matter: the caller then runs
+/// [`watertight_exact`] on the same lanes, from a function of its own kept out of
+/// line (`#[cold]`), which takes the inputs from where they are in memory (were the
+/// recomputation a call from here, the values it takes would be stored ahead of the
+/// branch, on the common path).
+#[inline(always)]
+pub(crate) fn watertight<T: Lanes>(
+    origin: &[T; 3],
+    shear: &[T; 3],
+    v0: &[T; 3],
+    v1: &[T; 3],
+    v2: &[T; 3],
+    limit: T,
+) -> Option<(T, T, T, u32)> {
+    let (xy, z) = frame(origin, shear, [v0, v1, v2]);
+    let e = edges(xy);
+    if zero_edge(e) != 0 {
+        return None;
+    }
+    Some(finish(e, z, shear[2], limit))
+}
+
+/// [`watertight`] with the edge functions that came out zero recomputed in `f64`
+/// ([`exact_lanes`]), the rest the same arithmetic.
+#[inline(always)]
+pub(crate) fn watertight_exact<T: Lanes>(
+    origin: &[T; 3],
+    shear: &[T; 3],
+    v0: &[T; 3],
+    v1: &[T; 3],
+    v2: &[T; 3],
+    limit: T,
+) -> (T, T, T, u32) {
+    let (xy, z) = frame(origin, shear, [v0, v1, v2]);
+    let e = edges(xy);
+    let mask = zero_edge(e);
     let xy = xy.map(T::to_lanes);
     let mut e = e.map(T::to_lanes);
     let [e0, e1, e2] = &mut e;
@@ -292,7 +367,7 @@ fn exact_edges<T: Lanes>(mask: u32, xy: [T; 6], e: [T; 3]) -> [T; 3] {
         xy.each_ref().map(|a| a.as_ref()),
         [e0.as_mut(), e1.as_mut(), e2.as_mut()],
     );
-    e.map(T::from_lanes)
+    finish(e.map(T::from_lanes), z, shear[2], limit)
 }
 
 /// In each lane of `mask`, each of the edge functions `e` that is zero recomputed in
@@ -320,7 +395,6 @@ pub(crate) fn exact_lanes(mut mask: u32, xy: [&[f32]; 6], e: [&mut [f32]; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
 
     /// The axes: `kz` as `Vec3::dominant_axis` (ties included), then the next two
     /// cyclically, swapped for a negative `dz`; the shear from `inv_dir`.
@@ -337,11 +411,12 @@ mod tests {
             ((0.5, -1.0, 1.0), [0, 2, 1]),
             ((0.0, 0.0, 0.0), [1, 2, 0]),
         ] {
+            let axes: [usize; 3] = axes;
             let dir = Vec3::new(d.0, d.1, d.2);
             let ray = Ray::new(Vec3::new(1.0, 2.0, 3.0), dir);
             let s = Sheared::new(&ray);
-            assert_eq!(s.axes, axes, "{dir:?}");
-            assert_eq!(usize::from(s.axes[2]), dir.dominant_axis(), "{dir:?}");
+            assert_eq!(s.axes.map(|a| a as usize), axes, "{dir:?}");
+            assert_eq!(s.axes[2] as usize, dir.dominant_axis(), "{dir:?}");
             assert_eq!(s.origin, s.permute(&[1.0, 2.0, 3.0]));
             let p = s.permute(&dir.to_array());
             if p[2] != 0.0 {

@@ -12,7 +12,7 @@
 use wide::f32x8;
 
 use super::tri4::{Ray4, Tri4, LANES};
-use crate::geometry::watertight::{watertight, Sheared};
+use crate::geometry::watertight::{watertight, watertight_exact, Axis, Sheared};
 use crate::math::Ray;
 
 /// Rays per [`Ray8`].
@@ -32,9 +32,9 @@ pub struct Ray8 {
     /// Each ray's [`Sheared::shear`], `[axis][ray]`.
     pub shear: [[f32; RAYS]; 3],
     /// Each ray's [`Sheared::axes`].
-    pub axes: [[u8; 3]; RAYS],
+    pub axes: [[Axis; 3]; RAYS],
     /// The axes, when all eight rays have the same.
-    pub shared_axes: Option<[u8; 3]>,
+    pub shared_axes: Option<[Axis; 3]>,
 }
 
 impl Ray8 {
@@ -49,25 +49,77 @@ impl Ray8 {
             inv: [[0.0; RAYS]; 3],
             sheared_origin: [[0.0; RAYS]; 3],
             shear: [[0.0; RAYS]; 3],
-            axes: [[0; 3]; RAYS],
+            axes: [[Axis::X; 3]; RAYS],
             shared_axes: None,
         };
-        let mut shared = true;
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
-            let sheared = Sheared::new(ray);
             for axis in 0..3 {
                 r.origin[axis][k] = ray.origin[axis];
                 r.dir[axis][k] = ray.dir[axis];
                 r.inv[axis][k] = ray.inv_dir[axis];
-                r.sheared_origin[axis][k] = sheared.origin[axis];
-                r.shear[axis][k] = sheared.shear[axis];
             }
-            r.axes[k] = sheared.axes;
-            shared &= sheared.axes == r.axes[0];
         }
-        r.shared_axes = shared.then_some(r.axes[0]);
+        r.shear_all();
         r
+    }
+
+    /// Each ray's frame, as [`Sheared::new`] makes it (the same selections and
+    /// products), eight rays at a time: `sheared_origin`, `shear`, `axes` and
+    /// `shared_axes` from `origin`, `dir` and `inv`.
+    #[inline(always)]
+    fn shear_all(&mut self) {
+        let rows = |a: &[[f32; RAYS]; 3]| [f32x8::from(a[0]), f32x8::from(a[1]), f32x8::from(a[2])];
+        let (o, d, inv) = (rows(&self.origin), rows(&self.dir), rows(&self.inv));
+        let a = d.map(f32x8::abs);
+        let zero = f32x8::ZERO;
+        // `kz` as `Vec3::dominant_axis` picks it, and the sign along it.
+        let z_is_x = a[0].simd_ge(a[1]) & a[0].simd_ge(a[2]);
+        let z_is_y = !z_is_x & a[1].simd_ge(a[2]);
+        let z_is_z = !(z_is_x | z_is_y);
+        let negative =
+            (z_is_x & d[0].simd_lt(zero)) | (z_is_y & d[1].simd_lt(zero)) | (z_is_z & d[2].simd_lt(zero));
+        let positive = !negative;
+        // `kx` and `ky` from `Sheared::AXES`.
+        let x_is_x = (z_is_y & negative) | (z_is_z & positive);
+        let x_is_y = (z_is_x & positive) | (z_is_z & negative);
+        let y_is_x = (z_is_y & positive) | (z_is_z & negative);
+        let y_is_y = (z_is_x & negative) | (z_is_z & positive);
+        let pick =
+            |v: &[f32x8; 3], is_x: f32x8, is_y: f32x8| is_x.bitselect(v[0], is_y.bitselect(v[1], v[2]));
+        let sz = pick(&inv, z_is_x, z_is_y);
+        self.sheared_origin = [
+            pick(&o, x_is_x, x_is_y).to_array(),
+            pick(&o, y_is_x, y_is_y).to_array(),
+            pick(&o, z_is_x, z_is_y).to_array(),
+        ];
+        self.shear = [
+            (pick(&d, x_is_x, x_is_y) * sz).to_array(),
+            (pick(&d, y_is_x, y_is_y) * sz).to_array(),
+            sz.to_array(),
+        ];
+        let (is_x, is_y, neg) = (z_is_x.to_bitmask(), z_is_y.to_bitmask(), negative.to_bitmask());
+        for (k, axes) in self.axes.iter_mut().enumerate() {
+            let kz = if is_x >> k & 1 != 0 {
+                0
+            } else {
+                2 - (is_y >> k & 1) as usize
+            };
+            *axes = Sheared::AXES[2 * kz + (neg >> k & 1) as usize];
+        }
+        let uniform = |bits: u32| bits == 0 || bits == (1 << RAYS) - 1;
+        self.shared_axes = (uniform(is_x) && uniform(is_y) && uniform(neg)).then_some(self.axes[0]);
+    }
+
+    /// Ray `k`'s frame.
+    #[inline(always)]
+    pub fn sheared(&self, k: usize) -> Sheared {
+        let lane = |a: &[[f32; RAYS]; 3]| [a[0][k], a[1][k], a[2][k]];
+        Sheared {
+            axes: self.axes[k],
+            origin: lane(&self.sheared_origin),
+            shear: lane(&self.shear),
+        }
     }
 
     /// Lane `lane`'s vertices of `block`, each permuted by each ray's axes,
@@ -90,12 +142,15 @@ impl Ray8 {
 /// and the rays that hit with `0 < t < limit` as bits.
 pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
 
-/// The watertight test on eight lanes, as arrays.
+/// A result of the eight-lane test as arrays.
 #[inline(always)]
-fn test8(origin: &[f32x8; 3], shear: &[f32x8; 3], v: [[f32x8; 3]; 3], limit: f32x8) -> Hits8 {
-    let (t, u, v, hit) = watertight(origin, shear, &v[0], &v[1], &v[2], limit);
+fn arrays((t, u, v, hit): (f32x8, f32x8, f32x8, u32)) -> Hits8 {
     (t.to_array(), u.to_array(), v.to_array(), hit)
 }
+
+/// The inputs of the eight-lane test: the rays' origins and shears in their
+/// frames, the vertices, the limits.
+type Inputs8 = ([f32x8; 3], [f32x8; 3], [[f32x8; 3]; 3], f32x8);
 
 impl Tri4 {
     /// Lane `lane`'s triangle against the eight rays of `rays`, each below its own
@@ -103,19 +158,47 @@ impl Tri4 {
     #[inline(always)]
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
-        let v = match rays.shared_axes {
-            Some(axes) => {
-                [&self.v0, &self.v1, &self.v2].map(|v| axes.map(|axis| f32x8::splat(v[axis as usize][lane])))
-            }
-            None => rays.gather(self, lane).map(|v| v.map(f32x8::from)),
+        let Some([kx, ky, kz]) = rays.shared_axes else {
+            return self.hits8_gathered(lane, rays, limits, false);
         };
-        test8(
-            &rays.sheared_origin.map(f32x8::from),
-            &rays.shear.map(f32x8::from),
-            v,
-            f32x8::from(*limits),
-        )
+        let [kx, ky, kz] = [kx as usize, ky as usize, kz as usize];
+        let vertex = |v: &[[f32; LANES]; 3]| {
+            [
+                f32x8::splat(v[kx][lane]),
+                f32x8::splat(v[ky][lane]),
+                f32x8::splat(v[kz][lane]),
+            ]
+        };
+        let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+        let [v0, v1, v2] = [vertex(&self.v0), vertex(&self.v1), vertex(&self.v2)];
+        match watertight(&origin, &shear, &v0, &v1, &v2, f32x8::from(*limits)) {
+            Some(found) => arrays(found),
+            None => self.hits8_gathered(lane, rays, limits, true),
+        }
     }
+
+    /// [`Tri4::hits8`] for rays that do not share their axes (the vertices gathered
+    /// lane by lane, [`Ray8::gather`]), or with `exact` when an edge function came
+    /// out zero (see `watertight_exact`).
+    #[cold]
+    #[inline(never)]
+    fn hits8_gathered(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
+        let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+        let [v0, v1, v2] = rays.gather(self, lane).map(|v| rows(&v));
+        let limit = f32x8::from(*limits);
+        if !exact {
+            if let Some(found) = watertight(&origin, &shear, &v0, &v1, &v2, limit) {
+                return arrays(found);
+            }
+        }
+        arrays(watertight_exact(&origin, &shear, &v0, &v1, &v2, limit))
+    }
+}
+
+/// Rows of eight lanes as vectors.
+#[inline(always)]
+fn rows(a: &[[f32; RAYS]; 3]) -> [f32x8; 3] {
+    [f32x8::from(a[0]), f32x8::from(a[1]), f32x8::from(a[2])]
 }
 
 /// The eight triangles of two blocks (`first`'s four lanes, then `second`'s) against
@@ -123,18 +206,39 @@ impl Tri4 {
 /// (`Tri4::test`): one eight-lane test where a leaf holds five to eight triangles.
 #[inline(always)]
 pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
-    let axes = ray.sheared.axes;
-    let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
-        axes.map(|axis| {
-            let mut lanes = [0.0; RAYS];
-            lanes[..LANES].copy_from_slice(&a[axis as usize]);
-            lanes[LANES..].copy_from_slice(&b[axis as usize]);
-            f32x8::from(lanes)
-        })
+    let (origin, shear, [v0, v1, v2], limit) = pair_inputs(first, second, ray, t_max);
+    match watertight(&origin, &shear, &v0, &v1, &v2, limit) {
+        Some(found) => arrays(found),
+        None => pair_hits_exact(first, second, ray, t_max),
+    }
+}
+
+/// [`pair_hits`] when an edge function came out zero (see `watertight_exact`).
+#[cold]
+#[inline(never)]
+fn pair_hits_exact(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, [v0, v1, v2], limit) = pair_inputs(first, second, ray, t_max);
+    arrays(watertight_exact(&origin, &shear, &v0, &v1, &v2, limit))
+}
+
+/// The inputs of [`pair_hits`].
+#[inline(always)]
+fn pair_inputs(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Inputs8 {
+    let s = &ray.sheared;
+    let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
+    let row = |a: &[f32; LANES], b: &[f32; LANES]| {
+        let mut lanes = [0.0; RAYS];
+        lanes[..LANES].copy_from_slice(a);
+        lanes[LANES..].copy_from_slice(b);
+        f32x8::from(lanes)
     };
-    test8(
-        &ray.sheared.origin.map(f32x8::splat),
-        &ray.sheared.shear.map(f32x8::splat),
+    let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
+        [row(&a[kx], &b[kx]), row(&a[ky], &b[ky]), row(&a[kz], &b[kz])]
+    };
+    let splat = |a: &[f32; 3]| [f32x8::splat(a[0]), f32x8::splat(a[1]), f32x8::splat(a[2])];
+    (
+        splat(&s.origin),
+        splat(&s.shear),
         [
             both(&first.v0, &second.v0),
             both(&first.v1, &second.v1),
@@ -217,6 +321,42 @@ pub(crate) mod tests {
             packets.push((rays, limits));
         }
         (block, tris, packets)
+    }
+
+    /// The eight rays' frames are the ones `Sheared::new` makes, for directions of
+    /// every dominant axis and sign, ties between components and zeros of both signs.
+    #[test]
+    fn the_frames_of_eight_rays_are_each_rays_own() {
+        let mut rnd = crate::accel::tests::uniform(0x7f4a_7c15);
+        let pick = |r: f32| [-1.0, -0.5, -0.0, 0.0, 0.5, 1.0, 2.0, -2.0][(r * 8.0) as usize % 8];
+        for p in 0..2000 {
+            let rays: Vec<Ray> = (0..RAYS)
+                .map(|_| {
+                    let d = if p % 2 == 0 {
+                        Vec3::new(pick(rnd()), pick(rnd()), pick(rnd()))
+                    } else {
+                        Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5)
+                    };
+                    let d = if d == Vec3::ZERO {
+                        Vec3::new(0.0, 0.0, 1.0)
+                    } else {
+                        d
+                    };
+                    Ray::new(Vec3::new(rnd(), rnd() * 3.0, -rnd()), d)
+                })
+                .collect();
+            let n = 1 + p % RAYS;
+            let r = Ray8::new(&rays[..n]);
+            for k in 0..RAYS {
+                assert_eq!(
+                    r.sheared(k),
+                    Sheared::new(&rays[k.min(n - 1)]),
+                    "packet {p} ray {k}"
+                );
+            }
+            let all = (0..RAYS).all(|k| r.axes[k] == r.axes[0]);
+            assert_eq!(r.shared_axes, all.then_some(r.axes[0]));
+        }
     }
 
     #[test]

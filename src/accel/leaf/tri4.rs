@@ -12,7 +12,7 @@ use std::ops::{Add, Mul, Sub};
 
 use wide::f32x4;
 
-use crate::geometry::watertight::{watertight, Sheared};
+use crate::geometry::watertight::{watertight, watertight_exact, Sheared};
 use crate::geometry::{Hit, Triangle};
 use crate::math::Ray;
 
@@ -48,11 +48,17 @@ impl Ray4 {
     /// Broadcasts `ray`.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
+        Ray4::with_sheared(ray, Sheared::new(ray))
+    }
+
+    /// Broadcasts `ray`, whose frame `sheared` is already known.
+    #[inline(always)]
+    pub fn with_sheared(ray: &Ray, sheared: Sheared) -> Self {
         let (o, d) = (ray.origin, ray.dir);
         Ray4 {
             origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
             dir: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
-            sheared: Sheared::new(ray),
+            sheared,
         }
     }
 }
@@ -120,19 +126,41 @@ impl Tri4 {
     }
 }
 
+impl Tri4 {
+    /// The ray's [`Sheared::origin`] and [`Sheared::shear`] broadcast, and the
+    /// vertices permuted by its axes.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn inputs(&self, ray: &Ray4) -> ([f32x4; 3], [f32x4; 3], [[f32x4; 3]; 3]) {
+        let s = &ray.sheared;
+        let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
+        let vertex = |v: &[[f32; LANES]; 3]| [load(&v[kx]), load(&v[ky]), load(&v[kz])];
+        let splat = |a: &[f32; 3]| [f32x4::splat(a[0]), f32x4::splat(a[1]), f32x4::splat(a[2])];
+        (
+            splat(&s.origin),
+            splat(&s.shear),
+            [vertex(&self.v0), vertex(&self.v1), vertex(&self.v2)],
+        )
+    }
+
+    /// `Block::test` when an edge function came out zero (see [`watertight_exact`]).
+    #[cold]
+    #[inline(never)]
+    fn test_exact(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
+        let (origin, shear, [v0, v1, v2]) = self.inputs(ray);
+        watertight_exact(&origin, &shear, &v0, &v1, &v2, f32x4::splat(t_max))
+    }
+}
+
 impl Block for Tri4 {
     /// The watertight test on the four lanes (see [`watertight`]).
     #[inline(always)]
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
-        let vertex = |v: &[[f32; LANES]; 3]| ray.sheared.permute(v).map(|a| load(&a));
-        watertight(
-            &ray.sheared.origin.map(f32x4::splat),
-            &ray.sheared.shear.map(f32x4::splat),
-            &vertex(&self.v0),
-            &vertex(&self.v1),
-            &vertex(&self.v2),
-            f32x4::splat(t_max),
-        )
+        let (origin, shear, [v0, v1, v2]) = self.inputs(ray);
+        match watertight(&origin, &shear, &v0, &v1, &v2, f32x4::splat(t_max)) {
+            Some(found) => found,
+            None => self.test_exact(ray, t_max),
+        }
     }
 
     #[inline(always)]

@@ -138,34 +138,85 @@ fn store8(v: __m256) -> [f32; 8] {
     lanes
 }
 
+/// The inputs of the eight-lane test: the rays' origins and shears in their
+/// frames, the vertices, the limits.
+type Inputs8 = ([__m256; 3], [__m256; 3], [[__m256; 3]; 3], __m256);
+
 /// `Tri4::hits8` in AVX registers (see [`watertight8`]).
 #[target_feature(enable = "avx")]
+#[inline]
 fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
-    let v = match rays.shared_axes {
-        Some(axes) => {
-            [&block.v0, &block.v1, &block.v2].map(|v| axes.map(|axis| _mm256_set1_ps(v[axis as usize][lane])))
-        }
-        None => rays.gather(block, lane).map(|v| v.each_ref().map(|x| load8(x))),
+    let Some([kx, ky, kz]) = rays.shared_axes else {
+        return hits8_avx_gathered(block, lane, rays, limits, false);
     };
-    watertight8(
-        rays.sheared_origin.each_ref().map(|x| load8(x)),
-        rays.shear.each_ref().map(|x| load8(x)),
-        v,
-        load8(limits),
-    )
+    let [kx, ky, kz] = [kx as usize, ky as usize, kz as usize];
+    let vertex = |v: &[[f32; 4]; 3]| {
+        [
+            _mm256_set1_ps(v[kx][lane]),
+            _mm256_set1_ps(v[ky][lane]),
+            _mm256_set1_ps(v[kz][lane]),
+        ]
+    };
+    let v = [vertex(&block.v0), vertex(&block.v1), vertex(&block.v2)];
+    let rows = |a: &[[f32; RAYS]; 3]| [load8(&a[0]), load8(&a[1]), load8(&a[2])];
+    match watertight8(rows(&rays.sheared_origin), rows(&rays.shear), v, load8(limits)) {
+        Some(found) => found,
+        None => hits8_avx_gathered(block, lane, rays, limits, true),
+    }
+}
+
+/// [`hits8_avx`] for rays that do not share their axes (the vertices gathered lane
+/// by lane, `Ray8::gather`), or with `exact` when an edge function came out zero.
+#[target_feature(enable = "avx")]
+#[cold]
+#[inline(never)]
+fn hits8_avx_gathered(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
+    let rows = |a: &[[f32; RAYS]; 3]| [load8(&a[0]), load8(&a[1]), load8(&a[2])];
+    let [v0, v1, v2] = rays.gather(block, lane);
+    let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+    let (v, limit) = ([rows(&v0), rows(&v1), rows(&v2)], load8(limits));
+    if !exact {
+        if let Some(found) = watertight8(origin, shear, v, limit) {
+            return found;
+        }
+    }
+    watertight8_exact(origin, shear, v, limit)
 }
 
 /// `ray8::pair_hits` in AVX registers (see [`watertight8`]).
 #[target_feature(enable = "avx")]
 fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
-    let axes = ray.sheared.axes;
+    let (origin, shear, v, limit) = pair_inputs(first, second, ray, t_max);
+    match watertight8(origin, shear, v, limit) {
+        Some(found) => found,
+        None => pair_avx_exact(first, second, ray, t_max),
+    }
+}
+
+/// [`pair_avx`] when an edge function came out zero.
+#[target_feature(enable = "avx")]
+#[cold]
+#[inline(never)]
+fn pair_avx_exact(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, v, limit) = pair_inputs(first, second, ray, t_max);
+    watertight8_exact(origin, shear, v, limit)
+}
+
+/// The inputs of [`pair_avx`].
+#[target_feature(enable = "avx")]
+#[inline]
+fn pair_inputs(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Inputs8 {
+    let s = &ray.sheared;
+    let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
     // SAFETY: each block row holds four f32, the width of one 128-bit load.
+    let row = |a: &[f32; 4], b: &[f32; 4]| unsafe { _mm256_loadu2_m128(b.as_ptr(), a.as_ptr()) };
     let both = |a: &[[f32; 4]; 3], b: &[[f32; 4]; 3]| {
-        axes.map(|axis| unsafe { _mm256_loadu2_m128(b[axis as usize].as_ptr(), a[axis as usize].as_ptr()) })
+        [row(&a[kx], &b[kx]), row(&a[ky], &b[ky]), row(&a[kz], &b[kz])]
     };
-    watertight8(
-        ray.sheared.origin.map(|x| _mm256_set1_ps(x)),
-        ray.sheared.shear.map(|x| _mm256_set1_ps(x)),
+    let splat = |a: &[f32; 3]| [_mm256_set1_ps(a[0]), _mm256_set1_ps(a[1]), _mm256_set1_ps(a[2])];
+    (
+        splat(&s.origin),
+        splat(&s.shear),
         [
             both(&first.v0, &second.v0),
             both(&first.v1, &second.v1),
@@ -175,39 +226,67 @@ fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
     )
 }
 
-/// The watertight test (`geometry::watertight::watertight`) and its acceptance on
-/// eight lanes of rays and triangles, below `limit`, in AVX registers, operation for
-/// operation (`simd_ne` is the unordered not-equal of `cmpneqps`; the other
-/// comparisons are ordered, false on NaN; `min` and `max` are `minps` and `maxps`,
-/// as `fast_min` and `fast_max`), and with the same `f64` recomputation of the edge
-/// functions that come out zero.
+/// `geometry::watertight::frame` in AVX registers.
 #[target_feature(enable = "avx")]
 #[inline]
-fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Hits8 {
-    let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
-    let [sx, sy, sz] = shear;
-    let relative = |p: &[__m256; 3]| [sub(p[0], origin[0]), sub(p[1], origin[1]), sub(p[2], origin[2])];
-    let (a, b, c) = (relative(&v[0]), relative(&v[1]), relative(&v[2]));
-    let sheared = |p: &[__m256; 3]| (sub(p[0], mul(sx, p[2])), sub(p[1], mul(sy, p[2])));
-    let (a_xy, b_xy, c_xy) = (sheared(&a), sheared(&b), sheared(&c));
-    let edge = |(px, py): (__m256, __m256), (qx, qy): (__m256, __m256)| sub(mul(qx, py), mul(qy, px));
-    let mut e = [edge(b_xy, c_xy), edge(c_xy, a_xy), edge(a_xy, b_xy)];
+fn frame8(
+    origin: &[__m256; 3],
+    shear: &[__m256; 3],
+    [v0, v1, v2]: &[[__m256; 3]; 3],
+) -> ([__m256; 6], [__m256; 3]) {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    let [sx, sy, _] = *shear;
+    let [ox, oy, oz] = *origin;
+    let (ax, ay, az) = (sub(v0[0], ox), sub(v0[1], oy), sub(v0[2], oz));
+    let (bx, by, bz) = (sub(v1[0], ox), sub(v1[1], oy), sub(v1[2], oz));
+    let (cx, cy, cz) = (sub(v2[0], ox), sub(v2[1], oy), sub(v2[2], oz));
+    (
+        [
+            sub(ax, mul(sx, az)),
+            sub(ay, mul(sy, az)),
+            sub(bx, mul(sx, bz)),
+            sub(by, mul(sy, bz)),
+            sub(cx, mul(sx, cz)),
+            sub(cy, mul(sy, cz)),
+        ],
+        [az, bz, cz],
+    )
+}
+
+/// `geometry::watertight::edges` in AVX registers.
+#[target_feature(enable = "avx")]
+#[inline]
+fn edges8([ax, ay, bx, by, cx, cy]: [__m256; 6]) -> [__m256; 3] {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    [
+        sub(mul(cx, by), mul(cy, bx)),
+        sub(mul(ax, cy), mul(ay, cx)),
+        sub(mul(bx, ay), mul(by, ax)),
+    ]
+}
+
+/// `geometry::watertight::zero_edge` in AVX registers.
+#[target_feature(enable = "avx")]
+#[inline]
+fn zero_edge8([e0, e1, e2]: [__m256; 3]) -> u32 {
+    let least = _mm256_min_ps(_mm256_min_ps(e0, e1), e2);
+    let greatest = _mm256_max_ps(_mm256_max_ps(e0, e1), e2);
+    let product = _mm256_mul_ps(least, greatest);
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(product, _mm256_setzero_ps())) as u32
+}
+
+/// `geometry::watertight::finish` in AVX registers (`simd_ne` is the unordered
+/// not-equal of `cmpneqps`; the other comparisons are ordered, false on NaN; `min`
+/// and `max` are `minps` and `maxps`, as `fast_min` and `fast_max`).
+#[target_feature(enable = "avx")]
+#[inline]
+fn finish8([e0, e1, e2]: [__m256; 3], [az, bz, cz]: [__m256; 3], sz: __m256, limit: __m256) -> Hits8 {
+    let (mul, add, and, or) = (_mm256_mul_ps, _mm256_add_ps, _mm256_and_ps, _mm256_or_ps);
     let zero = _mm256_setzero_ps();
-    let is_zero = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
-    let or = _mm256_or_ps;
-    let zeros = _mm256_movemask_ps(or(or(is_zero(e[0]), is_zero(e[1])), is_zero(e[2]))) as u32;
-    if zeros != 0 {
-        e = exact_edges8(zeros, [a_xy.0, a_xy.1, b_xy.0, b_xy.1, c_xy.0, c_xy.1], e);
-    }
-    let [e0, e1, e2] = e;
     let det = add(add(e0, e1), e2);
-    let t_scaled = add(
-        add(mul(e0, mul(sz, a[2])), mul(e1, mul(sz, b[2]))),
-        mul(e2, mul(sz, c[2])),
-    );
+    let t_unscaled = add(add(mul(e0, az), mul(e1, bz)), mul(e2, cz));
     let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
-    let t = mul(t_scaled, inv_det);
-    let and = _mm256_and_ps;
+    let t = mul(t_unscaled, mul(sz, inv_det));
     let (min, max) = (_mm256_min_ps, _mm256_max_ps);
     let same_sign = or(
         _mm256_cmp_ps::<_CMP_GE_OQ>(min(min(e0, e1), e2), zero),
@@ -228,17 +307,34 @@ fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], lim
     )
 }
 
-/// [`watertight8`]'s edge functions `e` with those that are zero in the lanes of
-/// `mask` recomputed in `f64` (`exact_lanes`, as the portable test does).
+/// The watertight test (`geometry::watertight::watertight`) and its acceptance on
+/// eight lanes of rays and triangles, below `limit`, in AVX registers, operation for
+/// operation; `None` when an edge function came out zero (the caller then runs
+/// [`watertight8_exact`] out of line).
 #[target_feature(enable = "avx")]
-#[cold]
-#[inline(never)]
-fn exact_edges8(mask: u32, xy: [__m256; 6], e: [__m256; 3]) -> [__m256; 3] {
+#[inline]
+fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Option<Hits8> {
+    let (xy, z) = frame8(&origin, &shear, &v);
+    let e = edges8(xy);
+    if zero_edge8(e) != 0 {
+        return None;
+    }
+    Some(finish8(e, z, shear[2], limit))
+}
+
+/// [`watertight8`] with the edge functions that came out zero recomputed in `f64`,
+/// as `geometry::watertight::watertight_exact`.
+#[target_feature(enable = "avx")]
+#[inline]
+fn watertight8_exact(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Hits8 {
+    let (xy, z) = frame8(&origin, &shear, &v);
+    let e = edges8(xy);
+    let mask = zero_edge8(e);
     let xy = xy.map(|x| store8(x));
     let mut e = e.map(|x| store8(x));
     let [e0, e1, e2] = &mut e;
     exact_lanes(mask, xy.each_ref().map(|a| &a[..]), [e0, e1, e2]);
-    e.each_ref().map(|x| load8(x))
+    finish8(e.each_ref().map(|x| load8(x)), z, shear[2], limit)
 }
 
 /// `Node8::slabs` in AVX registers: the entry and exit distances of `r` for
