@@ -29,6 +29,7 @@ mod proptests;
 pub mod sphere;
 pub mod triangle;
 pub mod triangulate;
+pub mod watertight;
 
 use crate::math::{Aabb, Ray, Vec3};
 

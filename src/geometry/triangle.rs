@@ -1,23 +1,27 @@
 //! Triangles: `p 3` polygons, the fans of convex polygons, and the fans of patches
 //! (`pp`), which add per-vertex normals for smooth shading.
 //!
-//! Intersection is Möller and Trumbore, "Fast, Minimum Storage Ray/Triangle
-//! Intersection" (JGT 1997), two-sided (no culling). Its edge inequalities
-//! `u ≥ 0, v ≥ 0, u + v ≤ 1` are inclusive, so a ray through an edge shared by two
-//! triangles hits at least one of them.
+//! Intersection is the watertight test of Woop, Benthin and Wald (JCGT 2013; see
+//! [`super::watertight`]), two-sided (no culling), edges and vertices included. A ray
+//! through an edge or a vertex shared by several triangles (with the same floats for
+//! the shared vertices, as a mesh's or a fan's have) hits at least one of them, in
+//! floating point and not only in exact arithmetic: closed meshes have no cracks.
 
+use super::watertight::{watertight, watertight_exact, Sheared};
 use super::{GeometryData, Hit, Surface};
 use crate::math::{Aabb, Ray, Vec3};
 
-/// A triangle ready for intersection: a vertex and the two edges leaving it.
+/// A triangle ready for intersection: its three vertices (not one vertex and two
+/// edges: `v0 + (v1 − v0)` need not round to `v1`, and a shared edge must be the same
+/// floats in both triangles for the test to be watertight).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     /// First vertex `v0`.
     pub v0: Vec3,
-    /// `v1 − v0`.
-    pub e1: Vec3,
-    /// `v2 − v0`.
-    pub e2: Vec3,
+    /// Second vertex `v1`.
+    pub v1: Vec3,
+    /// Third vertex `v2`.
+    pub v2: Vec3,
     /// Index of the first of three consecutive vertex normals (for `v0`, `v1`, `v2`)
     /// in [`GeometryData::patch_normals`]; [`Triangle::FLAT`] for none.
     pub normals: u32,
@@ -31,58 +35,74 @@ impl Triangle {
     /// counter-clockwise. `normals` indexes [`GeometryData::patch_normals`] or is
     /// [`Triangle::FLAT`].
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3, normals: u32) -> Triangle {
-        Triangle {
-            v0,
-            e1: v1 - v0,
-            e2: v2 - v0,
-            normals,
-        }
+        Triangle { v0, v1, v2, normals }
+    }
+
+    /// The edges `(v1 − v0, v2 − v0)`.
+    #[inline]
+    pub fn edges(&self) -> (Vec3, Vec3) {
+        (self.v1 - self.v0, self.v2 - self.v0)
     }
 
     /// Bounding box of the three vertices.
     #[inline]
     pub fn bounds(&self) -> Aabb {
-        Aabb::from_points(self.v0, self.v0 + self.e1).grow(self.v0 + self.e2)
+        Aabb::from_points(self.v0, self.v1).grow(self.v2)
     }
 
-    /// The unit geometric normal `normalize(e1 × e2)` (zero for a degenerate triangle).
+    /// The unit geometric normal `normalize((v1 − v0) × (v2 − v0))` (zero for a
+    /// degenerate triangle).
     #[inline]
     pub fn geometric_normal(&self) -> Vec3 {
-        self.e1.cross(self.e2).normalize()
+        let (e1, e2) = self.edges();
+        e1.cross(e2).normalize()
     }
 
     /// Phase one: the hit with `0 < t < t_max`, with barycentrics `u` (weight of `v1`)
     /// and `v` (weight of `v2`).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        // Möller–Trumbore: solve o + t·d = v0 + u·e1 + v·e2 by Cramer's rule.
-        let p = ray.dir.cross(self.e2);
-        let det = self.e1.dot(p);
-        // A ray parallel to the plane (or a degenerate triangle) has det = 0.
-        if det == 0.0 {
-            return None;
-        }
-        let inv_det = 1.0 / det;
-        let s = ray.origin - self.v0;
-        let u = s.dot(p) * inv_det;
-        // `contains` and the negated test below both reject a NaN.
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(self.e1);
-        let v = ray.dir.dot(q) * inv_det;
-        if !(v >= 0.0 && u + v <= 1.0) {
-            return None;
-        }
-        let t = self.e2.dot(q) * inv_det;
-        (t > 0.0 && t < t_max).then_some(Hit { t, u, v })
+        self.intersect_sheared(&Sheared::new(ray), t_max)
+    }
+
+    /// [`Triangle::intersect`] for a ray already prepared: the very arithmetic of the
+    /// leaf blocks' lanes (see [`super::watertight`]).
+    #[inline]
+    pub fn intersect_sheared(&self, ray: &Sheared, t_max: f32) -> Option<Hit> {
+        let (t, u, v, hit) = match watertight(
+            &ray.origin,
+            &ray.shear,
+            &ray.permute(&self.v0.to_array()),
+            &ray.permute(&self.v1.to_array()),
+            &ray.permute(&self.v2.to_array()),
+            t_max,
+        ) {
+            Some(found) => found,
+            None => self.intersect_exact(ray, t_max),
+        };
+        (hit != 0).then_some(Hit { t, u, v })
+    }
+
+    /// [`Triangle::intersect_sheared`] when an edge function came out zero.
+    #[cold]
+    #[inline(never)]
+    fn intersect_exact(&self, ray: &Sheared, t_max: f32) -> (f32, f32, f32, u32) {
+        watertight_exact(
+            &ray.origin,
+            &ray.shear,
+            &ray.permute(&self.v0.to_array()),
+            &ray.permute(&self.v1.to_array()),
+            &ray.permute(&self.v2.to_array()),
+            t_max,
+        )
     }
 
     /// Phase two: the point (from the barycentrics, so it lies in the plane), the
     /// geometric normal, and for patches the interpolated vertex normal.
     #[inline]
     pub fn surface(&self, _ray: &Ray, hit: &Hit, data: &GeometryData) -> Surface {
-        let point = self.v0 + self.e1 * hit.u + self.e2 * hit.v;
+        let (e1, e2) = self.edges();
+        let point = self.v0 + e1 * hit.u + e2 * hit.v;
         let normal = self.geometric_normal();
         let shading_normal = self.shading_normal(hit.u, hit.v, normal, data);
         Surface {
@@ -118,7 +138,7 @@ impl Triangle {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     const INF: f32 = f32::INFINITY;
@@ -180,6 +200,33 @@ mod tests {
         ] {
             assert!(t.intersect(&down_at(x, y), INF).is_some(), "({x}, {y})");
         }
+    }
+
+    /// Two triangles on either side of an edge that passes 2^-46 / √8 beside the ray
+    /// (along +z from the origin): the edge function rounds to zero in `f32` (where
+    /// both triangles would be hit), while its exact value, recomputed in `f64`, puts
+    /// the ray on the first triangle's side only. The ray, the triangle hit and the
+    /// one missed.
+    pub(crate) fn split_by_a_near_edge() -> (Ray, Triangle, Triangle) {
+        let e = f32::EPSILON;
+        let b = Vec3::new(-1.0, -(1.0 + e), 1.0);
+        let c = Vec3::new(1.0 + e, 1.0 + 2.0 * e, 1.0);
+        let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0));
+        let hit = Triangle::new(Vec3::new(-1.0, 1.0, 1.0), b, c, Triangle::FLAT);
+        let missed = Triangle::new(Vec3::new(1.0, -1.0, 1.0), c, b, Triangle::FLAT);
+        (ray, hit, missed)
+    }
+
+    #[test]
+    fn an_edge_function_rounded_to_zero_gets_its_exact_sign() {
+        let (ray, hit, missed) = split_by_a_near_edge();
+        // In f32 the edge function of b, c is zero: cx·by and cy·bx both round to
+        // −(1 + 2ε).
+        let (b, c) = (hit.v1, hit.v2);
+        assert_eq!(c.x * b.y - c.y * b.x, 0.0);
+        let h = hit.intersect(&ray, INF).unwrap();
+        assert_eq!(h.t, 1.0);
+        assert_eq!(missed.intersect(&ray, INF), None);
     }
 
     #[test]

@@ -240,7 +240,10 @@ fn isotropic(point: Vec3, intensity: Vec3, from: Vec3, pmf: f32) -> LightSample 
 /// The area of a primitive that is sampled by area, `None` for the others.
 fn sample_area(p: &Primitive) -> Option<f32> {
     match &p.shape {
-        Shape::Triangle(t) => Some(t.e1.cross(t.e2).length() * 0.5).filter(|&a| a > 0.0),
+        Shape::Triangle(t) => {
+            let (e1, e2) = t.edges();
+            Some(e1.cross(e2).length() * 0.5).filter(|&a| a > 0.0)
+        }
         Shape::Sphere(s) => Some(4.0 * PI * s.radius2).filter(|&a| a > 0.0),
         Shape::Box(b) => {
             let d = b.max - b.min;
@@ -258,8 +261,9 @@ fn sample_point(p: &Primitive, (u1, u2): (f32, f32)) -> Option<(Vec3, Vec3)> {
             // Uniform on the triangle: barycentrics (1 - sqrt(u1), sqrt(u1) (1 - u2),
             // sqrt(u1) u2).
             let s = u1.sqrt();
-            let point = t.v0 + t.e1 * (s * (1.0 - u2)) + t.e2 * (s * u2);
-            Some((point, t.e1.cross(t.e2).normalize()))
+            let (e1, e2) = t.edges();
+            let point = t.v0 + e1 * (s * (1.0 - u2)) + e2 * (s * u2);
+            Some((point, e1.cross(e2).normalize()))
         }
         Shape::Sphere(s) => {
             let z = 1.0 - 2.0 * u1;

@@ -3,12 +3,16 @@
 //! tested together against one ray ([`pair_hits`]).
 //!
 //! Each (ray, triangle) pair goes through exactly the arithmetic of the 4-lane
-//! [`Tri4`] test (same operations in the same order, no fused multiply-add), so hits,
-//! distances and barycentrics are bit-identical to what the ray gets alone.
+//! [`Tri4`] test (the generic [`watertight`], same operations in the same order, no
+//! fused multiply-add), so hits, distances and barycentrics are bit-identical to
+//! what the ray gets alone. Each ray sees the triangle in its own frame
+//! ([`Sheared`]): the vertices' coordinates are permuted by the ray's axes, lane by
+//! lane when the rays do not all share them (rare in a coherent packet).
 
 use wide::f32x8;
 
-use super::tri4::{accepted, moller_trumbore, Tri4, LANES};
+use super::tri4::{Ray4, Tri4, LANES};
+use crate::geometry::watertight::{watertight, watertight_exact, Axis, Sheared};
 use crate::math::Ray;
 
 /// Rays per [`Ray8`].
@@ -23,6 +27,14 @@ pub struct Ray8 {
     pub dir: [[f32; RAYS]; 3],
     /// Inverse directions (`Ray::inv_dir`).
     pub inv: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::origin`], `[axis][ray]`.
+    pub sheared_origin: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::shear`], `[axis][ray]`.
+    pub shear: [[f32; RAYS]; 3],
+    /// Each ray's [`Sheared::axes`].
+    pub axes: [[Axis; 3]; RAYS],
+    /// The axes, when all eight rays have the same.
+    pub shared_axes: Option<[Axis; 3]>,
 }
 
 impl Ray8 {
@@ -35,6 +47,10 @@ impl Ray8 {
             origin: [[0.0; RAYS]; 3],
             dir: [[0.0; RAYS]; 3],
             inv: [[0.0; RAYS]; 3],
+            sheared_origin: [[0.0; RAYS]; 3],
+            shear: [[0.0; RAYS]; 3],
+            axes: [[Axis::X; 3]; RAYS],
+            shared_axes: None,
         };
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
@@ -44,7 +60,81 @@ impl Ray8 {
                 r.inv[axis][k] = ray.inv_dir[axis];
             }
         }
+        r.shear_all();
         r
+    }
+
+    /// Each ray's frame, as [`Sheared::new`] makes it (the same selections and
+    /// products), eight rays at a time: `sheared_origin`, `shear`, `axes` and
+    /// `shared_axes` from `origin`, `dir` and `inv`.
+    #[inline(always)]
+    fn shear_all(&mut self) {
+        let rows = |a: &[[f32; RAYS]; 3]| [f32x8::from(a[0]), f32x8::from(a[1]), f32x8::from(a[2])];
+        let (o, d, inv) = (rows(&self.origin), rows(&self.dir), rows(&self.inv));
+        let a = d.map(f32x8::abs);
+        let zero = f32x8::ZERO;
+        // `kz` as `Vec3::dominant_axis` picks it, and the sign along it.
+        let z_is_x = a[0].simd_ge(a[1]) & a[0].simd_ge(a[2]);
+        let z_is_y = !z_is_x & a[1].simd_ge(a[2]);
+        let z_is_z = !(z_is_x | z_is_y);
+        let negative =
+            (z_is_x & d[0].simd_lt(zero)) | (z_is_y & d[1].simd_lt(zero)) | (z_is_z & d[2].simd_lt(zero));
+        let positive = !negative;
+        // `kx` and `ky` from `Sheared::AXES`.
+        let x_is_x = (z_is_y & negative) | (z_is_z & positive);
+        let x_is_y = (z_is_x & positive) | (z_is_z & negative);
+        let y_is_x = (z_is_y & positive) | (z_is_z & negative);
+        let y_is_y = (z_is_x & negative) | (z_is_z & positive);
+        let pick =
+            |v: &[f32x8; 3], is_x: f32x8, is_y: f32x8| is_x.bitselect(v[0], is_y.bitselect(v[1], v[2]));
+        let sz = pick(&inv, z_is_x, z_is_y);
+        self.sheared_origin = [
+            pick(&o, x_is_x, x_is_y).to_array(),
+            pick(&o, y_is_x, y_is_y).to_array(),
+            pick(&o, z_is_x, z_is_y).to_array(),
+        ];
+        self.shear = [
+            (pick(&d, x_is_x, x_is_y) * sz).to_array(),
+            (pick(&d, y_is_x, y_is_y) * sz).to_array(),
+            sz.to_array(),
+        ];
+        let (is_x, is_y, neg) = (z_is_x.to_bitmask(), z_is_y.to_bitmask(), negative.to_bitmask());
+        for (k, axes) in self.axes.iter_mut().enumerate() {
+            let kz = if is_x >> k & 1 != 0 {
+                0
+            } else {
+                2 - (is_y >> k & 1) as usize
+            };
+            *axes = Sheared::AXES[2 * kz + (neg >> k & 1) as usize];
+        }
+        let uniform = |bits: u32| bits == 0 || bits == (1 << RAYS) - 1;
+        self.shared_axes = (uniform(is_x) && uniform(is_y) && uniform(neg)).then_some(self.axes[0]);
+    }
+
+    /// Ray `k`'s frame.
+    #[inline(always)]
+    pub fn sheared(&self, k: usize) -> Sheared {
+        let lane = |a: &[[f32; RAYS]; 3]| [a[0][k], a[1][k], a[2][k]];
+        Sheared {
+            axes: self.axes[k],
+            origin: lane(&self.sheared_origin),
+            shear: lane(&self.shear),
+        }
+    }
+
+    /// Lane `lane`'s vertices of `block`, each permuted by each ray's axes,
+    /// `[vertex][axis][ray]` (for rays that do not share their axes).
+    #[inline(always)]
+    pub fn gather(&self, block: &Tri4, lane: usize) -> [[[f32; RAYS]; 3]; 3] {
+        let mut out = [[[0.0; RAYS]; 3]; 3];
+        for (vertex, v) in [&block.v0, &block.v1, &block.v2].into_iter().enumerate() {
+            for k in 0..RAYS {
+                for (j, &axis) in self.axes[k].iter().enumerate() {
+                    out[vertex][j][k] = v[axis as usize][lane];
+                }
+            }
+        }
+        out
     }
 }
 
@@ -52,13 +142,15 @@ impl Ray8 {
 /// and the rays that hit with `0 < t < limit` as bits.
 pub type Hits8 = ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32);
 
-/// The hits of a Möller–Trumbore result `[det, t, u, v]` over eight lanes, each below
-/// its own `limit`, accepted as `Tri4::test` accepts them.
+/// A result of the eight-lane test as arrays.
 #[inline(always)]
-fn accept8(mt: [f32x8; 4], limit: f32x8) -> Hits8 {
-    let [_, t, u, v] = mt;
-    (t.to_array(), u.to_array(), v.to_array(), accepted(mt, limit))
+fn arrays((t, u, v, hit): (f32x8, f32x8, f32x8, u32)) -> Hits8 {
+    (t.to_array(), u.to_array(), v.to_array(), hit)
 }
+
+/// The inputs of the eight-lane test: the rays' origins and shears in their
+/// frames, the vertices, the limits.
+type Inputs8 = ([f32x8; 3], [f32x8; 3], [[f32x8; 3]; 3], f32x8);
 
 impl Tri4 {
     /// Lane `lane`'s triangle against the eight rays of `rays`, each below its own
@@ -66,42 +158,94 @@ impl Tri4 {
     #[inline(always)]
     pub fn hits8(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
         debug_assert!(lane < LANES);
-        let tri = |a: &[[f32; LANES]; 3]| [0, 1, 2].map(|axis| f32x8::splat(a[axis][lane]));
-        let mt = moller_trumbore(
-            &rays.origin.map(f32x8::from),
-            &rays.dir.map(f32x8::from),
-            &tri(&self.v0),
-            &tri(&self.e1),
-            &tri(&self.e2),
-            f32x8::ONE,
-        );
-        accept8(mt, f32x8::from(*limits))
+        let Some([kx, ky, kz]) = rays.shared_axes else {
+            return self.hits8_gathered(lane, rays, limits, false);
+        };
+        let [kx, ky, kz] = [kx as usize, ky as usize, kz as usize];
+        let vertex = |v: &[[f32; LANES]; 3]| {
+            [
+                f32x8::splat(v[kx][lane]),
+                f32x8::splat(v[ky][lane]),
+                f32x8::splat(v[kz][lane]),
+            ]
+        };
+        let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+        let [v0, v1, v2] = [vertex(&self.v0), vertex(&self.v1), vertex(&self.v2)];
+        match watertight(&origin, &shear, &v0, &v1, &v2, f32x8::from(*limits)) {
+            Some(found) => arrays(found),
+            None => self.hits8_gathered(lane, rays, limits, true),
+        }
+    }
+
+    /// [`Tri4::hits8`] for rays that do not share their axes (the vertices gathered
+    /// lane by lane, [`Ray8::gather`]), or with `exact` when an edge function came
+    /// out zero (see `watertight_exact`).
+    #[cold]
+    #[inline(never)]
+    fn hits8_gathered(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
+        let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+        let [v0, v1, v2] = rays.gather(self, lane).map(|v| rows(&v));
+        let limit = f32x8::from(*limits);
+        if !exact {
+            if let Some(found) = watertight(&origin, &shear, &v0, &v1, &v2, limit) {
+                return arrays(found);
+            }
+        }
+        arrays(watertight_exact(&origin, &shear, &v0, &v1, &v2, limit))
     }
 }
 
-/// The eight triangles of two blocks (`first`'s four lanes, then `second`'s) against
-/// one ray below `t_max`, with the arithmetic of the 4-lane test (`Tri4::test`): one
-/// eight-lane test where a leaf holds five to eight triangles.
+/// Rows of eight lanes as vectors.
 #[inline(always)]
-pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
-    let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
-        [0, 1, 2].map(|axis| {
-            let mut lanes = [0.0; RAYS];
-            lanes[..LANES].copy_from_slice(&a[axis]);
-            lanes[LANES..].copy_from_slice(&b[axis]);
-            f32x8::from(lanes)
-        })
+fn rows(a: &[[f32; RAYS]; 3]) -> [f32x8; 3] {
+    [f32x8::from(a[0]), f32x8::from(a[1]), f32x8::from(a[2])]
+}
+
+/// The eight triangles of two blocks (`first`'s four lanes, then `second`'s) against
+/// one ray (`ray`, prepared) below `t_max`, with the arithmetic of the 4-lane test
+/// (`Tri4::test`): one eight-lane test where a leaf holds five to eight triangles.
+#[inline(always)]
+pub fn pair_hits(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, [v0, v1, v2], limit) = pair_inputs(first, second, ray, t_max);
+    match watertight(&origin, &shear, &v0, &v1, &v2, limit) {
+        Some(found) => arrays(found),
+        None => pair_hits_exact(first, second, ray, t_max),
+    }
+}
+
+/// [`pair_hits`] when an edge function came out zero (see `watertight_exact`).
+#[cold]
+#[inline(never)]
+fn pair_hits_exact(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, [v0, v1, v2], limit) = pair_inputs(first, second, ray, t_max);
+    arrays(watertight_exact(&origin, &shear, &v0, &v1, &v2, limit))
+}
+
+/// The inputs of [`pair_hits`].
+#[inline(always)]
+fn pair_inputs(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Inputs8 {
+    let s = &ray.sheared;
+    let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
+    let row = |a: &[f32; LANES], b: &[f32; LANES]| {
+        let mut lanes = [0.0; RAYS];
+        lanes[..LANES].copy_from_slice(a);
+        lanes[LANES..].copy_from_slice(b);
+        f32x8::from(lanes)
     };
-    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
-    let mt = moller_trumbore(
-        &o.map(f32x8::splat),
-        &d.map(f32x8::splat),
-        &both(&first.v0, &second.v0),
-        &both(&first.e1, &second.e1),
-        &both(&first.e2, &second.e2),
-        f32x8::ONE,
-    );
-    accept8(mt, f32x8::splat(t_max))
+    let both = |a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3]| {
+        [row(&a[kx], &b[kx]), row(&a[ky], &b[ky]), row(&a[kz], &b[kz])]
+    };
+    let splat = |a: &[f32; 3]| [f32x8::splat(a[0]), f32x8::splat(a[1]), f32x8::splat(a[2])];
+    (
+        splat(&s.origin),
+        splat(&s.shear),
+        [
+            both(&first.v0, &second.v0),
+            both(&first.v1, &second.v1),
+            both(&first.v2, &second.v2),
+        ],
+        f32x8::splat(t_max),
+    )
 }
 
 #[cfg(test)]
@@ -158,15 +302,70 @@ pub(crate) mod tests {
             let limits = std::array::from_fn(|k| [f32::INFINITY, 4.0, 2.2][(k + p) % 3]);
             packets.push((rays, limits));
         }
+        // Packets whose rays differ in their largest direction component (x for
+        // some, z for the others, both equal for one), so in their test frames.
+        for p in 0..30 {
+            let rays: Vec<Ray> = (0..RAYS)
+                .map(|k| {
+                    let x = match k {
+                        7 => 1.0,
+                        _ => (k as f32 - 3.5) * 0.3 + (p % 5) as f32 * 0.013,
+                    };
+                    let y = (p % 7) as f32 * 0.1 - 0.3;
+                    let o = Vec3::new(0.01 * p as f32, 0.0, 1.8);
+                    let d = Vec3::new(x, y, 1.0);
+                    Ray::new(o, if p % 2 == 0 { d } else { d.normalize() })
+                })
+                .collect();
+            let limits = std::array::from_fn(|k| [f32::INFINITY, 4.0, 2.2][(k + p) % 3]);
+            packets.push((rays, limits));
+        }
         (block, tris, packets)
+    }
+
+    /// The eight rays' frames are the ones `Sheared::new` makes, for directions of
+    /// every dominant axis and sign, ties between components and zeros of both signs.
+    #[test]
+    fn the_frames_of_eight_rays_are_each_rays_own() {
+        let mut rnd = crate::accel::tests::uniform(0x7f4a_7c15);
+        let pick = |r: f32| [-1.0, -0.5, -0.0, 0.0, 0.5, 1.0, 2.0, -2.0][(r * 8.0) as usize % 8];
+        for p in 0..2000 {
+            let rays: Vec<Ray> = (0..RAYS)
+                .map(|_| {
+                    let d = if p % 2 == 0 {
+                        Vec3::new(pick(rnd()), pick(rnd()), pick(rnd()))
+                    } else {
+                        Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5)
+                    };
+                    let d = if d == Vec3::ZERO {
+                        Vec3::new(0.0, 0.0, 1.0)
+                    } else {
+                        d
+                    };
+                    Ray::new(Vec3::new(rnd(), rnd() * 3.0, -rnd()), d)
+                })
+                .collect();
+            let n = 1 + p % RAYS;
+            let r = Ray8::new(&rays[..n]);
+            for k in 0..RAYS {
+                assert_eq!(
+                    r.sheared(k),
+                    Sheared::new(&rays[k.min(n - 1)]),
+                    "packet {p} ray {k}"
+                );
+            }
+            let all = (0..RAYS).all(|k| r.axes[k] == r.axes[0]);
+            assert_eq!(r.shared_axes, all.then_some(r.axes[0]));
+        }
     }
 
     #[test]
     fn each_ray_gets_the_scalar_test_bit_for_bit() {
         let (block, tris, packets) = cases();
-        let mut hits = 0;
+        let (mut hits, mut mixed) = (0, 0);
         for (rays, limits) in &packets {
             let rays8 = Ray8::new(rays);
+            mixed += usize::from(rays8.shared_axes.is_none());
             for (lane, tri) in tris.iter().enumerate() {
                 let (t, u, v, mask) = block.hits8(lane, &rays8, limits);
                 for (k, r) in rays.iter().enumerate() {
@@ -183,6 +382,25 @@ pub(crate) mod tests {
             }
         }
         assert!(hits > 100, "{hits} hits: too few to test the lanes");
+        assert!(mixed >= 20, "{mixed} packets of rays with different axes");
+    }
+
+    /// One triangle against eight rays and two blocks against one ray, where an edge
+    /// function rounds to zero: the `f64` recomputation in the lanes that need it
+    /// (see `tri4`'s test of the same).
+    #[test]
+    fn eight_lanes_recompute_edge_functions_rounded_to_zero() {
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (hit, 1)]);
+        let other = Ray::new(Vec3::new(0.1, -0.3, 0.0), Vec3::new(0.0, 0.0, 1.0));
+        let rays = [ray, other, ray, ray, other, ray, ray, other];
+        let rays8 = Ray8::new(&rays);
+        let limits = [f32::INFINITY; RAYS];
+        assert_eq!(block.hits8(0, &rays8, &limits).3, 0b1001_0010);
+        assert_eq!(block.hits8(1, &rays8, &limits).3, 0b0110_1101);
+        let (t, _, _, mask) = pair_hits(&block, &block, &Ray4::new(&ray), f32::INFINITY);
+        assert_eq!(mask, 0b0010_0010);
+        assert_eq!(t[1], hit.intersect(&ray, f32::INFINITY).unwrap().t);
     }
 
     /// The second block of [`pair_hits`]: the first one's triangles in reverse order,
@@ -199,7 +417,7 @@ pub(crate) mod tests {
         let mut hits = 0;
         for (rays, limits) in &packets {
             for (r, &t_max) in rays.iter().zip(limits) {
-                let (t, u, v, mask) = pair_hits(&first, &second, r, t_max);
+                let (t, u, v, mask) = pair_hits(&first, &second, &Ray4::new(r), t_max);
                 assert_eq!(mask & 0x80, 0, "the empty lane is never hit");
                 for (lane, tri) in lanes.iter().enumerate() {
                     let want = tri.intersect(r, t_max);

@@ -1,53 +1,64 @@
 //! Leaf blocks of four triangles in structure-of-arrays form, intersected together.
 //!
 //! A BVH leaf made only of triangles is stored as one or more [`Tri4`] blocks; one
-//! Möller–Trumbore test over four lanes replaces four scalar ones (and two blocks go
-//! through one eight-lane test, `ray8::pair_hits`). Every lane
-//! performs exactly the scalar [`Triangle::intersect`] arithmetic (same operations in
-//! the same order, no fused multiply-add), so hits, distances and barycentrics are
-//! bit-identical to the scalar test's, and ties go to the lowest lane as they go to
-//! the first primitive in the scalar loop.
+//! watertight test over four lanes replaces four scalar ones (and two blocks go
+//! through one eight-lane test, `ray8::pair_hits`). Every lane performs exactly the
+//! scalar [`Triangle::intersect`] arithmetic (the one generic function
+//! [`watertight`], same operations in the same order, no fused multiply-add), so
+//! hits, distances and barycentrics are bit-identical to the scalar test's, and ties
+//! go to the lowest lane as they go to the first primitive in the scalar loop.
 
-use std::ops::{Add, BitAnd, Div, Mul, Sub};
+use std::ops::{Add, Mul, Sub};
 
-use wide::{f32x4, f32x8};
+use wide::f32x4;
 
+use crate::geometry::watertight::{watertight, watertight_exact, Sheared};
 use crate::geometry::{Hit, Triangle};
 use crate::math::Ray;
 
 /// Lanes per block.
 pub const LANES: usize = 4;
 
-/// Up to four triangles: `v0`, `e1 = v1 − v0`, `e2 = v2 − v0` per lane, `[axis][lane]`,
-/// and the index of each lane's primitive. Unused lanes have zero edges (a zero
-/// determinant, never hit) and primitive index `u32::MAX`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Up to four triangles: the vertices `v0`, `v1`, `v2` per lane, `[axis][lane]`, and
+/// the index of each lane's primitive. Unused lanes have NaN vertices (a NaN
+/// distance, never hit, and no edge function exactly zero to recompute) and
+/// primitive index `u32::MAX`.
+#[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 pub struct Tri4 {
     pub(in crate::accel) v0: [[f32; LANES]; 3],
-    pub(in crate::accel) e1: [[f32; LANES]; 3],
-    pub(in crate::accel) e2: [[f32; LANES]; 3],
+    pub(in crate::accel) v1: [[f32; LANES]; 3],
+    pub(in crate::accel) v2: [[f32; LANES]; 3],
     /// Primitive index of each lane in the BVH's primitive array.
     pub prim: [u32; LANES],
 }
 
 const _: () = assert!(std::mem::size_of::<Tri4>() == 160);
 
-/// A ray broadcast to four lanes.
+/// A ray broadcast to four lanes, and prepared for the triangle test.
 #[derive(Clone, Copy)]
 pub struct Ray4 {
     pub(in crate::accel) origin: [f32x4; 3],
     pub(in crate::accel) dir: [f32x4; 3],
+    /// The ray in the triangle test's frame.
+    pub(in crate::accel) sheared: Sheared,
 }
 
 impl Ray4 {
     /// Broadcasts `ray`.
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
+        Ray4::with_sheared(ray, Sheared::new(ray))
+    }
+
+    /// Broadcasts `ray`, whose frame `sheared` is already known.
+    #[inline(always)]
+    pub fn with_sheared(ray: &Ray, sheared: Sheared) -> Self {
         let (o, d) = (ray.origin, ray.dir);
         Ray4 {
             origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
             dir: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
+            sheared,
         }
     }
 }
@@ -71,102 +82,6 @@ pub(in crate::accel) fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[
 #[inline(always)]
 pub(in crate::accel) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// Möller–Trumbore on SIMD lanes (a vector of rays or of triangles), with the
-/// operations of `Triangle::intersect` in their order: `(det, t, u, v)`, the hit
-/// still to be accepted (`det ≠ 0`, `u, v ≥ 0`, `u + v ≤ 1`, `0 < t < t_max`).
-#[inline(always)]
-pub(in crate::accel) fn moller_trumbore<T>(
-    origin: &[T; 3],
-    dir: &[T; 3],
-    v0: &[T; 3],
-    e1: &[T; 3],
-    e2: &[T; 3],
-    one: T,
-) -> [T; 4]
-where
-    T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Div<Output = T>,
-{
-    let p = cross(dir, e2);
-    let det = dot(e1, &p);
-    let inv_det = one / det;
-    let s = [origin[0] - v0[0], origin[1] - v0[1], origin[2] - v0[2]];
-    let u = dot(&s, &p) * inv_det;
-    let q = cross(&s, e1);
-    let v = dot(dir, &q) * inv_det;
-    let t = dot(e2, &q) * inv_det;
-    [det, t, u, v]
-}
-
-/// The comparisons of the triangle test's acceptance, on four lanes or eight: each
-/// gives a mask (all ones where true), combined with `&` and read out once as bits.
-pub(in crate::accel) trait Accept:
-    Copy + Add<Output = Self> + BitAnd<Output = Self>
-{
-    /// Zero in every lane.
-    const ZERO: Self;
-    /// One in every lane.
-    const ONE: Self;
-    /// `self != rhs` per lane (true on NaN, as `!=`).
-    fn ne(self, rhs: Self) -> Self;
-    /// `self >= rhs` per lane (false on NaN).
-    fn ge(self, rhs: Self) -> Self;
-    /// `self <= rhs` per lane (false on NaN).
-    fn le(self, rhs: Self) -> Self;
-    /// `self > rhs` per lane (false on NaN).
-    fn gt(self, rhs: Self) -> Self;
-    /// `self < rhs` per lane (false on NaN).
-    fn lt(self, rhs: Self) -> Self;
-    /// A mask's lanes as bits.
-    fn bits(self) -> u32;
-}
-
-macro_rules! accept {
-    ($t:ty) => {
-        impl Accept for $t {
-            const ZERO: Self = <$t>::ZERO;
-            const ONE: Self = <$t>::ONE;
-            #[inline(always)]
-            fn ne(self, rhs: Self) -> Self {
-                self.simd_ne(rhs)
-            }
-            #[inline(always)]
-            fn ge(self, rhs: Self) -> Self {
-                self.simd_ge(rhs)
-            }
-            #[inline(always)]
-            fn le(self, rhs: Self) -> Self {
-                self.simd_le(rhs)
-            }
-            #[inline(always)]
-            fn gt(self, rhs: Self) -> Self {
-                self.simd_gt(rhs)
-            }
-            #[inline(always)]
-            fn lt(self, rhs: Self) -> Self {
-                self.simd_lt(rhs)
-            }
-            #[inline(always)]
-            fn bits(self) -> u32 {
-                self.to_bitmask()
-            }
-        }
-    };
-}
-
-accept!(f32x4);
-accept!(f32x8);
-
-/// The lanes (as bits) of a Möller–Trumbore result `[det, t, u, v]` that the scalar
-/// [`Triangle::intersect`] accepts: `det ≠ 0`, `0 ≤ u ≤ 1`, `v ≥ 0`, `u + v ≤ 1` and
-/// `0 < t < limit`. Comparisons with a NaN are false (`≠` true), so NaN lanes drop out
-/// as in the scalar test.
-#[inline(always)]
-pub(in crate::accel) fn accepted<T: Accept>([det, t, u, v]: [T; 4], limit: T) -> u32 {
-    let (zero, one) = (T::ZERO, T::ONE);
-    let ok = det.ne(zero) & u.ge(zero) & u.le(one) & v.ge(zero) & (u + v).le(one) & t.gt(zero) & t.lt(limit);
-    ok.bits()
 }
 
 /// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
@@ -194,21 +109,16 @@ impl Tri4 {
             "a block holds at most {LANES} triangles"
         );
         let mut block = Tri4 {
-            v0: [[0.0; LANES]; 3],
-            e1: [[0.0; LANES]; 3],
-            e2: [[0.0; LANES]; 3],
+            v0: [[f32::NAN; LANES]; 3],
+            v1: [[f32::NAN; LANES]; 3],
+            v2: [[f32::NAN; LANES]; 3],
             prim: [u32::MAX; LANES],
         };
         for (lane, (t, prim)) in triangles.iter().enumerate() {
-            for (axis, (v0, (e1, e2))) in
-                t.v0.to_array()
-                    .into_iter()
-                    .zip(t.e1.to_array().into_iter().zip(t.e2.to_array()))
-                    .enumerate()
-            {
-                block.v0[axis][lane] = v0;
-                block.e1[axis][lane] = e1;
-                block.e2[axis][lane] = e2;
+            for axis in 0..3 {
+                block.v0[axis][lane] = t.v0[axis];
+                block.v1[axis][lane] = t.v1[axis];
+                block.v2[axis][lane] = t.v2[axis];
             }
             block.prim[lane] = *prim;
         }
@@ -216,19 +126,41 @@ impl Tri4 {
     }
 }
 
+impl Tri4 {
+    /// The ray's [`Sheared::origin`] and [`Sheared::shear`] broadcast, and the
+    /// vertices permuted by its axes.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn inputs(&self, ray: &Ray4) -> ([f32x4; 3], [f32x4; 3], [[f32x4; 3]; 3]) {
+        let s = &ray.sheared;
+        let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
+        let vertex = |v: &[[f32; LANES]; 3]| [load(&v[kx]), load(&v[ky]), load(&v[kz])];
+        let splat = |a: &[f32; 3]| [f32x4::splat(a[0]), f32x4::splat(a[1]), f32x4::splat(a[2])];
+        (
+            splat(&s.origin),
+            splat(&s.shear),
+            [vertex(&self.v0), vertex(&self.v1), vertex(&self.v2)],
+        )
+    }
+
+    /// `Block::test` when an edge function came out zero (see [`watertight_exact`]).
+    #[cold]
+    #[inline(never)]
+    fn test_exact(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
+        let (origin, shear, [v0, v1, v2]) = self.inputs(ray);
+        watertight_exact(&origin, &shear, &v0, &v1, &v2, f32x4::splat(t_max))
+    }
+}
+
 impl Block for Tri4 {
-    /// Möller–Trumbore on the four lanes (see [`moller_trumbore`]).
+    /// The watertight test on the four lanes (see [`watertight`]).
     #[inline(always)]
     fn test(&self, ray: &Ray4, t_max: f32) -> (f32x4, f32x4, f32x4, u32) {
-        let [det, t, u, v] = moller_trumbore(
-            &ray.origin,
-            &ray.dir,
-            &self.v0.map(|a| load(&a)),
-            &self.e1.map(|a| load(&a)),
-            &self.e2.map(|a| load(&a)),
-            f32x4::ONE,
-        );
-        (t, u, v, accepted([det, t, u, v], f32x4::splat(t_max)))
+        let (origin, shear, [v0, v1, v2]) = self.inputs(ray);
+        match watertight(&origin, &shear, &v0, &v1, &v2, f32x4::splat(t_max)) {
+            Some(found) => found,
+            None => self.test_exact(ray, t_max),
+        }
     }
 
     #[inline(always)]
@@ -368,6 +300,88 @@ mod tests {
         assert_eq!(block.closest_hit(&ray, 2.0), None);
         assert!(!block.any_hit(&ray, 2.0));
         assert!(block.any_hit(&ray, 2.5));
+    }
+
+    /// A lane whose edge function rounds to zero goes through the scalar `f64`
+    /// recomputation, and only that lane: the triangle on the ray's side of the edge
+    /// is hit, its neighbour across it is not, as in the scalar test.
+    #[test]
+    fn an_edge_function_rounded_to_zero_is_recomputed_as_in_the_scalar_test() {
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (tri(3.0, 1.0), 1), (hit, 2), (missed, 3)]);
+        let ray4 = Ray4::new(&ray);
+        let (t, _, _, mask) = block.test(&ray4, f32::INFINITY);
+        assert_eq!(mask, 0b0110);
+        assert_eq!(
+            block.closest_hit(&ray4, f32::INFINITY),
+            Some((hit.intersect(&ray, f32::INFINITY).unwrap(), 2))
+        );
+        assert_eq!(t.to_array()[1], 3.0);
+    }
+
+    /// Rays straight down and slanted through the vertices and along the edges of a
+    /// grid of triangles, where edge functions come out exactly zero (and stay zero
+    /// in `f64`): every lane agrees with the scalar test, distance and barycentrics
+    /// bit for bit.
+    #[test]
+    fn lanes_match_the_scalar_test_on_edges_and_vertices() {
+        let mut tris = Vec::new();
+        for i in 0..3 {
+            for j in 0..2 {
+                let (x, y) = (i as f32, j as f32);
+                let z = |x: f32, y: f32| 0.25 * x - 0.5 * y;
+                let p = |x: f32, y: f32| Vec3::new(x, y, z(x, y));
+                tris.push(Triangle::new(
+                    p(x, y),
+                    p(x + 1.0, y),
+                    p(x, y + 1.0),
+                    Triangle::FLAT,
+                ));
+                tris.push(Triangle::new(
+                    p(x + 1.0, y),
+                    p(x + 1.0, y + 1.0),
+                    p(x, y + 1.0),
+                    Triangle::FLAT,
+                ));
+            }
+        }
+        let mut hits = 0;
+        for block_tris in tris.chunks(LANES) {
+            let block = Tri4::new(
+                &block_tris
+                    .iter()
+                    .enumerate()
+                    .map(|(k, t)| (*t, k as u32))
+                    .collect::<Vec<_>>(),
+            );
+            for i in 0..=6 {
+                for j in 0..=4 {
+                    let (x, y) = (i as f32 * 0.5, j as f32 * 0.5);
+                    for d in [
+                        Vec3::new(0.0, 0.0, -1.0),
+                        Vec3::new(0.5, -0.25, -1.0),
+                        Vec3::new(-2.0, 1.0, -1.0),
+                    ] {
+                        let ray = Ray::new(Vec3::new(x, y, 0.25 * x - 0.5 * y) - d * 3.0, d);
+                        let (t, u, v, mask) = block.test(&Ray4::new(&ray), f32::INFINITY);
+                        for (k, tri) in block_tris.iter().enumerate() {
+                            let want = tri.intersect(&ray, f32::INFINITY);
+                            assert_eq!(mask & 1 << k != 0, want.is_some(), "lane {k}, ray {ray:?}");
+                            if let Some(h) = want {
+                                let got = (t.to_array()[k], u.to_array()[k], v.to_array()[k]);
+                                assert_eq!(got.0.to_bits(), h.t.to_bits());
+                                assert_eq!(
+                                    (got.1.to_bits(), got.2.to_bits()),
+                                    (h.u.to_bits(), h.v.to_bits())
+                                );
+                                hits += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(hits > 100, "{hits} hits");
     }
 
     #[test]

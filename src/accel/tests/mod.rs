@@ -14,6 +14,7 @@ use proptest::prelude::*;
 mod brute;
 mod edges;
 mod structures;
+mod watertight;
 
 /// Points in the cube `[-range, range)^3`.
 fn v3(range: f32) -> impl Strategy<Value = Vec3> {
@@ -48,7 +49,7 @@ fn scene_with(spheres: &[(Vec3, f32)], triangles: &[[Vec3; 3]]) -> Scene {
 
 /// A fixed-seed xorshift generator of floats uniform in `[0, 1)`, for reproducible
 /// random scenes and rays (`seed` must not be zero).
-pub(super) fn uniform(seed: u64) -> impl FnMut() -> f32 {
+pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f32 {
     let mut state = seed;
     move || {
         state ^= state << 13;

@@ -3,7 +3,7 @@
 //! The release build targets baseline x86_64 (SSE2), where `wide::f32x8` is two SSE
 //! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`],
 //! [`Bvh::occluded`] and [`Bvh::closest_hit_packet`] run copies of themselves compiled
-//! for AVX2, whose eight-lane slab test (and the eight-lane triangle tests: two blocks
+//! for AVX2, whose eight-lane slab test (and the eight-lane watertight triangle tests: two blocks
 //! against a ray, one triangle against a packet's rays) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
 //! for operation and operand for operand (no fused multiply-add), so every answer and
@@ -19,15 +19,16 @@
 use std::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
     _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
-    _mm256_movemask_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps, _mm_storeu_ps,
-    _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps,
+    _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
 use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
-use crate::accel::leaf::tri4::Tri4;
+use crate::accel::leaf::tri4::{Ray4, Tri4};
+use crate::geometry::watertight::exact_lanes;
 use crate::geometry::Hit;
 use crate::math::Ray;
 
@@ -108,7 +109,7 @@ impl Kernels for Avx {
     }
 
     #[inline(always)]
-    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
         // SAFETY: as in `entries`.
         unsafe { pair_avx(first, second, ray, t_max) }
     }
@@ -137,97 +138,203 @@ fn store8(v: __m256) -> [f32; 8] {
     lanes
 }
 
-/// `Tri4::hits8` in AVX registers (see [`moller_trumbore8`]).
+/// The inputs of the eight-lane test: the rays' origins and shears in their
+/// frames, the vertices, the limits.
+type Inputs8 = ([__m256; 3], [__m256; 3], [[__m256; 3]; 3], __m256);
+
+/// `Tri4::hits8` in AVX registers (see [`watertight8`]).
 #[target_feature(enable = "avx")]
+#[inline]
 fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8 {
-    let tri = |a: &[[f32; 4]; 3]| [0, 1, 2].map(|axis| _mm256_set1_ps(a[axis][lane]));
-    let o = [
-        load8(&rays.origin[0]),
-        load8(&rays.origin[1]),
-        load8(&rays.origin[2]),
-    ];
-    let d = [load8(&rays.dir[0]), load8(&rays.dir[1]), load8(&rays.dir[2])];
-    moller_trumbore8(
-        o,
-        d,
-        tri(&block.v0),
-        tri(&block.e1),
-        tri(&block.e2),
-        load8(limits),
-    )
+    let Some([kx, ky, kz]) = rays.shared_axes else {
+        return hits8_avx_gathered(block, lane, rays, limits, false);
+    };
+    let [kx, ky, kz] = [kx as usize, ky as usize, kz as usize];
+    let vertex = |v: &[[f32; 4]; 3]| {
+        [
+            _mm256_set1_ps(v[kx][lane]),
+            _mm256_set1_ps(v[ky][lane]),
+            _mm256_set1_ps(v[kz][lane]),
+        ]
+    };
+    let v = [vertex(&block.v0), vertex(&block.v1), vertex(&block.v2)];
+    let rows = |a: &[[f32; RAYS]; 3]| [load8(&a[0]), load8(&a[1]), load8(&a[2])];
+    match watertight8(rows(&rays.sheared_origin), rows(&rays.shear), v, load8(limits)) {
+        Some(found) => found,
+        None => hits8_avx_gathered(block, lane, rays, limits, true),
+    }
 }
 
-/// `ray8::pair_hits` in AVX registers (see [`moller_trumbore8`]).
+/// [`hits8_avx`] for rays that do not share their axes (the vertices gathered lane
+/// by lane, `Ray8::gather`), or with `exact` when an edge function came out zero.
 #[target_feature(enable = "avx")]
-fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
-    // SAFETY: each block array holds four f32, the width of one 128-bit load.
+#[cold]
+#[inline(never)]
+fn hits8_avx_gathered(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
+    let rows = |a: &[[f32; RAYS]; 3]| [load8(&a[0]), load8(&a[1]), load8(&a[2])];
+    let [v0, v1, v2] = rays.gather(block, lane);
+    let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
+    let (v, limit) = ([rows(&v0), rows(&v1), rows(&v2)], load8(limits));
+    if !exact {
+        if let Some(found) = watertight8(origin, shear, v, limit) {
+            return found;
+        }
+    }
+    watertight8_exact(origin, shear, v, limit)
+}
+
+/// `ray8::pair_hits` in AVX registers (see [`watertight8`]).
+#[target_feature(enable = "avx")]
+fn pair_avx(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, v, limit) = pair_inputs(first, second, ray, t_max);
+    match watertight8(origin, shear, v, limit) {
+        Some(found) => found,
+        None => pair_avx_exact(first, second, ray, t_max),
+    }
+}
+
+/// [`pair_avx`] when an edge function came out zero.
+#[target_feature(enable = "avx")]
+#[cold]
+#[inline(never)]
+fn pair_avx_exact(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
+    let (origin, shear, v, limit) = pair_inputs(first, second, ray, t_max);
+    watertight8_exact(origin, shear, v, limit)
+}
+
+/// The inputs of [`pair_avx`].
+#[target_feature(enable = "avx")]
+#[inline]
+fn pair_inputs(first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Inputs8 {
+    let s = &ray.sheared;
+    let [kx, ky, kz] = [s.axes[0] as usize, s.axes[1] as usize, s.axes[2] as usize];
+    // SAFETY: each block row holds four f32, the width of one 128-bit load.
+    let row = |a: &[f32; 4], b: &[f32; 4]| unsafe { _mm256_loadu2_m128(b.as_ptr(), a.as_ptr()) };
     let both = |a: &[[f32; 4]; 3], b: &[[f32; 4]; 3]| {
-        [0, 1, 2].map(|axis| unsafe { _mm256_loadu2_m128(b[axis].as_ptr(), a[axis].as_ptr()) })
+        [row(&a[kx], &b[kx]), row(&a[ky], &b[ky]), row(&a[kz], &b[kz])]
     };
-    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
-    moller_trumbore8(
-        o.map(|x| _mm256_set1_ps(x)),
-        d.map(|x| _mm256_set1_ps(x)),
-        both(&first.v0, &second.v0),
-        both(&first.e1, &second.e1),
-        both(&first.e2, &second.e2),
+    let splat = |a: &[f32; 3]| [_mm256_set1_ps(a[0]), _mm256_set1_ps(a[1]), _mm256_set1_ps(a[2])];
+    (
+        splat(&s.origin),
+        splat(&s.shear),
+        [
+            both(&first.v0, &second.v0),
+            both(&first.v1, &second.v1),
+            both(&first.v2, &second.v2),
+        ],
         _mm256_set1_ps(t_max),
     )
 }
 
-/// Möller–Trumbore and the acceptance of `Tri4::test` on eight lanes of rays and
-/// triangles, below `limit`, in AVX registers, operation for operation (`simd_ne` is
-/// the unordered not-equal of `cmpneqps`; the others are ordered, false on NaN).
+/// `geometry::watertight::frame` in AVX registers.
 #[target_feature(enable = "avx")]
 #[inline]
-fn moller_trumbore8(
-    o: [__m256; 3],
-    d: [__m256; 3],
-    v0: [__m256; 3],
-    e1: [__m256; 3],
-    e2: [__m256; 3],
-    limit: __m256,
-) -> Hits8 {
-    let (mul, sub, add) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_add_ps);
-    let cross = |a: &[__m256; 3], b: &[__m256; 3]| {
+fn frame8(
+    origin: &[__m256; 3],
+    shear: &[__m256; 3],
+    [v0, v1, v2]: &[[__m256; 3]; 3],
+) -> ([__m256; 6], [__m256; 3]) {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    let [sx, sy, _] = *shear;
+    let [ox, oy, oz] = *origin;
+    let (ax, ay, az) = (sub(v0[0], ox), sub(v0[1], oy), sub(v0[2], oz));
+    let (bx, by, bz) = (sub(v1[0], ox), sub(v1[1], oy), sub(v1[2], oz));
+    let (cx, cy, cz) = (sub(v2[0], ox), sub(v2[1], oy), sub(v2[2], oz));
+    (
         [
-            sub(mul(a[1], b[2]), mul(a[2], b[1])),
-            sub(mul(a[2], b[0]), mul(a[0], b[2])),
-            sub(mul(a[0], b[1]), mul(a[1], b[0])),
-        ]
-    };
-    let dot = |a: &[__m256; 3], b: &[__m256; 3]| add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
-    let p = cross(&d, &e2);
-    let det = dot(&e1, &p);
-    let one = _mm256_set1_ps(1.0);
+            sub(ax, mul(sx, az)),
+            sub(ay, mul(sy, az)),
+            sub(bx, mul(sx, bz)),
+            sub(by, mul(sy, bz)),
+            sub(cx, mul(sx, cz)),
+            sub(cy, mul(sy, cz)),
+        ],
+        [az, bz, cz],
+    )
+}
+
+/// `geometry::watertight::edges` in AVX registers.
+#[target_feature(enable = "avx")]
+#[inline]
+fn edges8([ax, ay, bx, by, cx, cy]: [__m256; 6]) -> [__m256; 3] {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    [
+        sub(mul(cx, by), mul(cy, bx)),
+        sub(mul(ax, cy), mul(ay, cx)),
+        sub(mul(bx, ay), mul(by, ax)),
+    ]
+}
+
+/// `geometry::watertight::zero_edge` in AVX registers.
+#[target_feature(enable = "avx")]
+#[inline]
+fn zero_edge8([e0, e1, e2]: [__m256; 3]) -> u32 {
+    let least = _mm256_min_ps(_mm256_min_ps(e0, e1), e2);
+    let greatest = _mm256_max_ps(_mm256_max_ps(e0, e1), e2);
+    let product = _mm256_mul_ps(least, greatest);
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(product, _mm256_setzero_ps())) as u32
+}
+
+/// `geometry::watertight::finish` in AVX registers (`simd_ne` is the unordered
+/// not-equal of `cmpneqps`; the other comparisons are ordered, false on NaN; `min`
+/// and `max` are `minps` and `maxps`, as `fast_min` and `fast_max`).
+#[target_feature(enable = "avx")]
+#[inline]
+fn finish8([e0, e1, e2]: [__m256; 3], [az, bz, cz]: [__m256; 3], sz: __m256, limit: __m256) -> Hits8 {
+    let (mul, add, and, or) = (_mm256_mul_ps, _mm256_add_ps, _mm256_and_ps, _mm256_or_ps);
     let zero = _mm256_setzero_ps();
-    let inv_det = _mm256_div_ps(one, det);
-    let s = [sub(o[0], v0[0]), sub(o[1], v0[1]), sub(o[2], v0[2])];
-    let u = mul(dot(&s, &p), inv_det);
-    let q = cross(&s, &e1);
-    let v = mul(dot(&d, &q), inv_det);
-    let t = mul(dot(&e2, &q), inv_det);
-    let and = _mm256_and_ps;
+    let det = add(add(e0, e1), e2);
+    let t_unscaled = add(add(mul(e0, az), mul(e1, bz)), mul(e2, cz));
+    let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
+    let t = mul(t_unscaled, mul(sz, inv_det));
+    let (min, max) = (_mm256_min_ps, _mm256_max_ps);
+    let same_sign = or(
+        _mm256_cmp_ps::<_CMP_GE_OQ>(min(min(e0, e1), e2), zero),
+        _mm256_cmp_ps::<_CMP_LE_OQ>(max(max(e0, e1), e2), zero),
+    );
     let ok = and(
         and(
-            and(
-                _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero),
-                _mm256_cmp_ps::<_CMP_GE_OQ>(u, zero),
-            ),
-            and(
-                _mm256_cmp_ps::<_CMP_LE_OQ>(u, one),
-                _mm256_cmp_ps::<_CMP_GE_OQ>(v, zero),
-            ),
+            and(same_sign, _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero)),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
         ),
-        and(
-            and(
-                _mm256_cmp_ps::<_CMP_LE_OQ>(add(u, v), one),
-                _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
-            ),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
-        ),
+        _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
     );
-    (store8(t), store8(u), store8(v), _mm256_movemask_ps(ok) as u32)
+    (
+        store8(t),
+        store8(mul(e1, inv_det)),
+        store8(mul(e2, inv_det)),
+        _mm256_movemask_ps(ok) as u32,
+    )
+}
+
+/// The watertight test (`geometry::watertight::watertight`) and its acceptance on
+/// eight lanes of rays and triangles, below `limit`, in AVX registers, operation for
+/// operation; `None` when an edge function came out zero (the caller then runs
+/// [`watertight8_exact`] out of line).
+#[target_feature(enable = "avx")]
+#[inline]
+fn watertight8(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Option<Hits8> {
+    let (xy, z) = frame8(&origin, &shear, &v);
+    let e = edges8(xy);
+    if zero_edge8(e) != 0 {
+        return None;
+    }
+    Some(finish8(e, z, shear[2], limit))
+}
+
+/// [`watertight8`] with the edge functions that came out zero recomputed in `f64`,
+/// as `geometry::watertight::watertight_exact`.
+#[target_feature(enable = "avx")]
+#[inline]
+fn watertight8_exact(origin: [__m256; 3], shear: [__m256; 3], v: [[__m256; 3]; 3], limit: __m256) -> Hits8 {
+    let (xy, z) = frame8(&origin, &shear, &v);
+    let e = edges8(xy);
+    let mask = zero_edge8(e);
+    let xy = xy.map(|x| store8(x));
+    let mut e = e.map(|x| store8(x));
+    let [e0, e1, e2] = &mut e;
+    exact_lanes(mask, xy.each_ref().map(|a| &a[..]), [e0, e1, e2]);
+    finish8(e.each_ref().map(|x| load8(x)), z, shear[2], limit)
 }
 
 /// `Node8::slabs` in AVX registers: the entry and exit distances of `r` for
@@ -356,8 +463,9 @@ mod tests {
         let mut hits = 0;
         for (rays, limits) in &packets {
             for (r, &t_max) in rays.iter().zip(limits) {
-                let (pt, pu, pv, pm) = Portable.pair(&first, &second, r, t_max);
-                let (at, au, av, am) = avx.pair(&first, &second, r, t_max);
+                let r4 = Ray4::new(r);
+                let (pt, pu, pv, pm) = Portable.pair(&first, &second, &r4, t_max);
+                let (at, au, av, am) = avx.pair(&first, &second, &r4, t_max);
                 assert_eq!(pm, am);
                 for k in 0..8 {
                     if pm & (1 << k) != 0 {
@@ -369,5 +477,41 @@ mod tests {
             }
         }
         assert!(hits > 100, "{hits} hits: too few to compare");
+    }
+
+    /// The AVX kernels recompute the edge functions rounded to zero as the portable
+    /// ones do.
+    #[test]
+    fn avx_recomputes_zero_edge_functions_as_the_portable_kernels_do() {
+        let Some(avx) = Avx::detect() else {
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();
+        let block = Tri4::new(&[(missed, 0), (hit, 1)]);
+        let other = Ray::new(Vec3::new(0.1, -0.3, 0.0), Vec3::new(0.0, 0.0, 1.0));
+        let rays8 = Ray8::new(&[ray, other, ray, ray, other, ray, ray, other]);
+        let limits = [f32::INFINITY; RAYS];
+        let bits = |(t, u, v, m): Hits8| (t.map(f32::to_bits), u.map(f32::to_bits), v.map(f32::to_bits), m);
+        for lane in 0..2 {
+            let portable = Portable.hits8(&block, lane, &rays8, &limits);
+            assert_ne!(portable.3, 0);
+            assert_eq!(bits(avx.hits8(&block, lane, &rays8, &limits)), bits(portable));
+        }
+        let r4 = Ray4::new(&ray);
+        let portable = Portable.pair(&block, &block, &r4, f32::INFINITY);
+        assert_eq!(portable.3, 0b0010_0010);
+        let (t, u, v, m) = avx.pair(&block, &block, &r4, f32::INFINITY);
+        assert_eq!(m, portable.3);
+        for k in [1, 5] {
+            assert_eq!(
+                (t[k].to_bits(), u[k].to_bits(), v[k].to_bits()),
+                (
+                    portable.0[k].to_bits(),
+                    portable.1[k].to_bits(),
+                    portable.2[k].to_bits()
+                )
+            );
+        }
     }
 }

@@ -122,7 +122,7 @@ impl Bvh {
             }
         }
         if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
-            let k = self.tri4_any(kernels, blocks, ray, ray4, t_max)?;
+            let k = self.tri4_any(kernels, blocks, ray4, t_max)?;
             return Some(hint_bits::TRI4 | (first + k) as u32);
         }
         count!(PRIMS, count);
@@ -133,20 +133,13 @@ impl Bvh {
         Some(hint_bits::PRIMITIVE | (first + k) as u32)
     }
 
-    /// The position in `blocks` of a triangle block lying on `ray` (and `ray4`) with
+    /// The position in `blocks` of a triangle block lying on `ray4` with
     /// `0 < t < t_max`.
     #[inline(always)]
-    fn tri4_any<S: Kernels>(
-        &self,
-        kernels: S,
-        blocks: &[Tri4],
-        ray: &Ray,
-        ray4: &Ray4,
-        t_max: f32,
-    ) -> Option<usize> {
+    fn tri4_any<S: Kernels>(&self, kernels: S, blocks: &[Tri4], ray4: &Ray4, t_max: f32) -> Option<usize> {
         let mut pairs = blocks.chunks_exact(2);
         for (k, pair) in (&mut pairs).enumerate() {
-            let mask = kernels.pair(&pair[0], &pair[1], ray, t_max).3;
+            let mask = kernels.pair(&pair[0], &pair[1], ray4, t_max).3;
             if mask != 0 {
                 return Some(2 * k + (mask.trailing_zeros() as usize) / LANES);
             }

@@ -160,26 +160,27 @@ struct SingleRays {
 }
 
 impl SingleRays {
-    /// Ray 0 prepared (the others hold copies of it until they are).
+    /// Ray 0 prepared (the others hold copies of it until they are); `rays8` holds
+    /// the rays' triangle test frames.
     #[inline(always)]
-    fn new(rays: &[Ray]) -> SingleRays {
+    fn new(rays: &[Ray], rays8: &Ray8) -> SingleRays {
         SingleRays {
             boxes: [RayBoxes::new(&rays[0]); PACKET],
-            ray4: [Ray4::new(&rays[0]); PACKET],
+            ray4: [Ray4::with_sheared(&rays[0], rays8.sheared(0)); PACKET],
             ready: 1,
         }
     }
 
     /// Prepares the rays of `mask` (bits of indices into `rays`) not prepared yet.
     #[inline(always)]
-    fn prepare(&mut self, rays: &[Ray], mask: u32) {
+    fn prepare(&mut self, rays: &[Ray], rays8: &Ray8, mask: u32) {
         let mut todo = mask & !self.ready;
         self.ready |= mask;
         while todo != 0 {
             let k = todo.trailing_zeros() as usize;
             todo &= todo - 1;
             self.boxes[k] = RayBoxes::new(&rays[k]);
-            self.ray4[k] = Ray4::new(&rays[k]);
+            self.ray4[k] = Ray4::with_sheared(&rays[k], rays8.sheared(k));
         }
     }
 }
@@ -254,7 +255,7 @@ impl Bvh {
         let n = rays.len();
         let rays8 = Ray8::new(rays);
         let interval = Interval::of(&rays8);
-        let mut single = SingleRays::new(rays);
+        let mut single = SingleRays::new(rays, &rays8);
         // Each ray's `nearest[k].limit`, side by side for the vector tests.
         let mut limits = nearest.map(|n| n.limit);
         PACKET_STACK.with_borrow_mut(|stack| {
@@ -282,7 +283,7 @@ impl Bvh {
                 }
                 // (`coherent` holds only with an interval.)
                 let mut left = if coherent { 0 } else { active };
-                single.prepare(rays, left);
+                single.prepare(rays, &rays8, left);
                 let boxes = &single.boxes;
                 while left != 0 {
                     let k = left.trailing_zeros() as usize;
@@ -349,7 +350,7 @@ impl Bvh {
                         }
                         continue;
                     }
-                    single.prepare(rays, entering);
+                    single.prepare(rays, &rays8, entering);
                     let mut each = entering;
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
@@ -396,7 +397,7 @@ impl Bvh {
                         continue;
                     }
                     if entering.count_ones() <= SOLO {
-                        single.prepare(rays, entering);
+                        single.prepare(rays, &rays8, entering);
                         let mut each = entering;
                         while each != 0 {
                             let k = each.trailing_zeros() as usize;

@@ -215,7 +215,7 @@ impl Bvh {
         }
         if let Some(blocks) = self.triangle_blocks::<KINDS>(first, count) {
             tally.prims(blocks.len() * LANES);
-            self.tri4_closest(kernels, blocks, ray, ray4, nearest);
+            self.tri4_closest(kernels, blocks, ray4, nearest);
             return;
         }
         count!(PRIMS, count);
@@ -243,20 +243,13 @@ impl Bvh {
         marked(&self.tri4, first, count, TRI4_LEAF)
     }
 
-    /// Offers to `nearest` the hits of `ray` (and `ray4`) in triangle blocks.
+    /// Offers to `nearest` the hits of `ray4` in triangle blocks.
     #[inline(always)]
-    fn tri4_closest<S: Kernels>(
-        &self,
-        kernels: S,
-        blocks: &[Tri4],
-        ray: &Ray,
-        ray4: &Ray4,
-        nearest: &mut Nearest,
-    ) {
+    fn tri4_closest<S: Kernels>(&self, kernels: S, blocks: &[Tri4], ray4: &Ray4, nearest: &mut Nearest) {
         // Blocks two at a time (one eight-lane test), the last one alone.
         let mut pairs = blocks.chunks_exact(2);
         for pair in &mut pairs {
-            let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray, nearest.limit);
+            let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray4, nearest.limit);
             if mask != 0 {
                 let lane = nearest_lane(&t, mask);
                 let hit = Hit {

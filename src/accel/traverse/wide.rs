@@ -11,7 +11,7 @@
 use wide::{f32x8, u32x8};
 
 use crate::accel::leaf::ray8::{pair_hits, Hits8, Ray8, RAYS};
-use crate::accel::leaf::tri4::Tri4;
+use crate::accel::leaf::tri4::{Ray4, Tri4};
 use crate::math::{Aabb, Ray, Vec3, TINY_DIR};
 
 /// Lanes per wide node.
@@ -183,7 +183,7 @@ pub trait Kernels: Copy {
     /// As `Tri4::hits8` (one triangle against eight rays).
     fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8;
     /// As `ray8::pair_hits` (two blocks of triangles against one ray).
-    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8;
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8;
 }
 
 /// The kernels as the `wide` crate compiles them for the build target.
@@ -207,7 +207,7 @@ impl Kernels for Portable {
     }
 
     #[inline(always)]
-    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray, t_max: f32) -> Hits8 {
+    fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
         pair_hits(first, second, ray, t_max)
     }
 }
