@@ -183,7 +183,10 @@ fn help_says_limits_in_words_and_names_values_alike() {
     }
     // Renders only where they are timed: --integrator's whole renders.
     let (before, after) = bench.split_once("--integrator").expect("bench --integrator");
-    assert!(!before.contains("render"), "\"render\" before --integrator in\n{bench}");
+    assert!(
+        !before.contains("render"),
+        "\"render\" before --integrator in\n{bench}"
+    );
     assert!(after.contains("whole renders"), "{bench}");
     for sub in ["render", "bench", "gen", "info", "merge"] {
         let text = help(&[sub, "--help"]);

@@ -615,13 +615,13 @@ fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_it
         shown.as_str(),
         Some("shutter: 0.5 refused, the shutter must open no later than it closes; kept 0")
     );
-    assert_eq!(browser.picture(), (short.clone(), gen));
+    assert_eq!(browser.picture(), (short, gen));
 
     // Another acceleration structure: a new render, the same picture.
     browser.set("accel", "grid");
     let (grid, gen) = browser.next_picture(gen);
-    assert!(grid == short, "the grid renders the BVH's picture");
+    assert_eq!(grid, short, "the grid renders the BVH's picture");
     browser.set("accel", "none");
     let (none, _) = browser.next_picture(gen);
-    assert!(none == short, "the scan renders the BVH's picture");
+    assert_eq!(none, short, "the scan renders the BVH's picture");
 }

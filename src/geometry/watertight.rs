@@ -88,7 +88,11 @@ impl Sheared {
         let (o, d, inv) = (four(ray.origin), four(ray.dir), four(ray.inv_dir));
         let a = ray.dir.abs();
         // `Vec3::dominant_axis`: x unless y or z is larger, then y unless z is larger.
+        // (`a < b` is not `!(a >= b)` for a NaN: the negations keep NaN directions
+        // on the axes `dominant_axis` gives them.)
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         let not_x = !(a.x >= a.y && a.x >= a.z);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         let kz = usize::from(not_x) * (1 + usize::from(!(a.y >= a.z)));
         let signs = usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2;
         let axes = Self::AXES[(2 * kz + (signs >> kz & 1)) & 7];
