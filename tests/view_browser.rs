@@ -615,7 +615,7 @@ fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_it
         shown.as_str(),
         Some("shutter: 0.5 refused, the shutter must open no later than it closes; kept 0")
     );
-    assert_eq!(browser.picture(), (short.clone(), gen));
+    assert_eq!(browser.picture(), (short, gen));
 
     // Another acceleration structure: a new render, the same picture.
     browser.set("accel", "grid");

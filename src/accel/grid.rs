@@ -255,7 +255,9 @@ impl Grid {
         let (near, far) = (t0.min(t1), t0.max(t1));
         let t_enter = near.x.max(near.y).max(near.z).max(0.0);
         let t_exit = far.x.min(far.y).min(far.z).min(t_max);
-        if !(t_enter <= t_exit) {
+        // (Not `t_enter > t_exit`: a NaN is not entered either.)
+        let entered = t_enter <= t_exit;
+        if !entered {
             return;
         }
         let start = ray.at(t_enter);
@@ -311,7 +313,9 @@ impl Grid {
 fn resolution(bounds: &Aabb, n: usize) -> [usize; 3] {
     let extent = bounds.extent();
     let longest = extent.x.max(extent.y).max(extent.z);
-    if !(longest > 0.0) || n == 0 {
+    // (Not `longest <= 0.0`: a NaN extent gets one cell too.)
+    let positive = longest > 0.0;
+    if !positive || n == 0 {
         return [1, 1, 1];
     }
     let per_unit = CELLS_PER_CUBE_ROOT * (n as f32).cbrt() / longest;

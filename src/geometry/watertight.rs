@@ -89,7 +89,8 @@ impl Sheared {
         let a = ray.dir.abs();
         // `Vec3::dominant_axis`: x unless y or z is larger, then y unless z is larger.
         let not_x = !(a.x >= a.y && a.x >= a.z);
-        let kz = usize::from(not_x) * (1 + usize::from(!(a.y >= a.z)));
+        let y_over_z = a.y >= a.z;
+        let kz = usize::from(not_x) * (2 - usize::from(y_over_z));
         let signs = usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2;
         let axes = Self::AXES[(2 * kz + (signs >> kz & 1)) & 7];
         let [kx, ky, kz] = axes.map(|axis| axis as usize & 3);

@@ -128,8 +128,8 @@ impl Ray8 {
     pub fn gather(&self, block: &Tri4, lane: usize) -> [[[f32; RAYS]; 3]; 3] {
         let mut out = [[[0.0; RAYS]; 3]; 3];
         for (vertex, v) in [&block.v0, &block.v1, &block.v2].into_iter().enumerate() {
-            for k in 0..RAYS {
-                for (j, &axis) in self.axes[k].iter().enumerate() {
+            for (k, axes) in self.axes.iter().enumerate() {
+                for (j, &axis) in axes.iter().enumerate() {
                     out[vertex][j][k] = v[axis as usize][lane];
                 }
             }
