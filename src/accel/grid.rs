@@ -13,8 +13,7 @@
 //! axis.
 
 use std::cell::RefCell;
-use std::cmp::Ordering;
-use std::sync::atomic::{self, AtomicU64};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::bvh::Bvh;
 use super::tally::Tally;
@@ -106,7 +105,7 @@ impl Grid {
             cell_size,
             offsets: Vec::new(),
             items: Vec::new(),
-            id: NEXT_GRID.fetch_add(1, atomic::Ordering::Relaxed),
+            id: NEXT_GRID.fetch_add(1, Ordering::Relaxed),
         };
         grid.fill(&entries);
         grid
@@ -256,11 +255,9 @@ impl Grid {
         let (near, far) = (t0.min(t1), t0.max(t1));
         let t_enter = near.x.max(near.y).max(near.z).max(0.0);
         let t_exit = far.x.min(far.y).min(far.z).min(t_max);
-        // (NaN bounds, from a ray with NaNs, miss too.)
-        if !matches!(
-            t_enter.partial_cmp(&t_exit),
-            Some(Ordering::Less | Ordering::Equal)
-        ) {
+        // (Not `t_enter > t_exit`: a NaN is not entered either.)
+        let entered = t_enter <= t_exit;
+        if !entered {
             return;
         }
         let start = ray.at(t_enter);
@@ -316,7 +313,9 @@ impl Grid {
 fn resolution(bounds: &Aabb, n: usize) -> [usize; 3] {
     let extent = bounds.extent();
     let longest = extent.x.max(extent.y).max(extent.z);
-    if longest.partial_cmp(&0.0) != Some(Ordering::Greater) || n == 0 {
+    // (Not `longest <= 0.0`: a NaN extent gets one cell too.)
+    let positive = longest > 0.0;
+    if !positive || n == 0 {
         return [1, 1, 1];
     }
     let per_unit = CELLS_PER_CUBE_ROOT * (n as f32).cbrt() / longest;

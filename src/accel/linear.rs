@@ -13,6 +13,12 @@ impl Bvh {
     /// Offers `nearest` the hits of the unbounded primitives.
     #[inline]
     pub(super) fn unbounded_closest<T: Tally>(&self, ray: &Ray, nearest: &mut Nearest, tally: &mut T) {
+        // (Without this, the compiler prepared the ray for every kind of primitive
+        // ahead of the loop, also when it has nothing to do: most scenes have no
+        // unbounded primitives.)
+        if self.bounded == self.primitives.len() {
+            return;
+        }
         tally.prims(self.primitives.len() - self.bounded);
         for (i, p) in self.primitives.iter().enumerate().skip(self.bounded) {
             if let Some(h) = p.intersect(ray, nearest.limit, &self.data) {
@@ -24,6 +30,9 @@ impl Bvh {
     /// True when an unbounded primitive lies on the ray with `0 < t < t_max`.
     #[inline]
     pub(super) fn unbounded_occluded<T: Tally>(&self, ray: &Ray, t_max: f32, tally: &mut T) -> bool {
+        if self.bounded == self.primitives.len() {
+            return false;
+        }
         self.primitives[self.bounded..].iter().any(|p| {
             tally.prims(1);
             p.intersect(ray, t_max, &self.data).is_some()

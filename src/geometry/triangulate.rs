@@ -2,7 +2,7 @@
 //! Eberly, "Triangulation by Ear Clipping"), done in the polygon's dominant plane.
 //!
 //! Concave polygons become triangles at build time so the BVH can bound their
-//! pieces tightly and each candidate test is a cheap Möller–Trumbore test instead of
+//! pieces tightly and each candidate test is a cheap triangle test instead of
 //! a crossings test over every edge (the SPD gears have 144-vertex concave faces).
 //! Self-intersecting polygons have no such triangulation of their even-odd interior:
 //! for them, and for very large polygons, [`ear_clip`] returns `None` and the caller

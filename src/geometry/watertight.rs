@@ -88,12 +88,9 @@ impl Sheared {
         let (o, d, inv) = (four(ray.origin), four(ray.dir), four(ray.inv_dir));
         let a = ray.dir.abs();
         // `Vec3::dominant_axis`: x unless y or z is larger, then y unless z is larger.
-        // (`a < b` is not `!(a >= b)` for a NaN: the negations keep NaN directions
-        // on the axes `dominant_axis` gives them.)
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         let not_x = !(a.x >= a.y && a.x >= a.z);
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let kz = usize::from(not_x) * (1 + usize::from(!(a.y >= a.z)));
+        let y_over_z = a.y >= a.z;
+        let kz = usize::from(not_x) * (2 - usize::from(y_over_z));
         let signs = usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2;
         let axes = Self::AXES[(2 * kz + (signs >> kz & 1)) & 7];
         let [kx, ky, kz] = axes.map(|axis| axis as usize & 3);
@@ -129,8 +126,6 @@ pub(crate) trait Lanes:
     const ONE: Self;
     /// `self == rhs` (false on NaN).
     fn eq(self, rhs: Self) -> Self::Mask;
-    /// `self != rhs` (true on NaN).
-    fn ne(self, rhs: Self) -> Self::Mask;
     /// `self >= rhs` (false on NaN).
     fn ge(self, rhs: Self) -> Self::Mask;
     /// `self <= rhs` (false on NaN).
@@ -159,10 +154,6 @@ impl Lanes for f32 {
     #[inline(always)]
     fn eq(self, rhs: Self) -> bool {
         self == rhs
-    }
-    #[inline(always)]
-    fn ne(self, rhs: Self) -> bool {
-        self != rhs
     }
     #[inline(always)]
     fn ge(self, rhs: Self) -> bool {
@@ -220,10 +211,6 @@ macro_rules! simd_lanes {
             #[inline(always)]
             fn eq(self, rhs: Self) -> Self {
                 self.simd_eq(rhs)
-            }
-            #[inline(always)]
-            fn ne(self, rhs: Self) -> Self {
-                self.simd_ne(rhs)
             }
             #[inline(always)]
             fn ge(self, rhs: Self) -> Self {
@@ -314,11 +301,13 @@ fn finish<T: Lanes>([e0, e1, e2]: [T; 3], [az, bz, cz]: [T; 3], sz: T, limit: T)
     let t_unscaled = e0 * az + e1 * bz + e2 * cz;
     let inv_det = T::ONE / det;
     let t = t_unscaled * (sz * inv_det);
-    // One sign for the three (zero counts as either), a triangle seen other than
-    // edge-on, and the distance within bounds. Comparisons with a NaN are false
-    // (`≠` true), and a NaN anywhere (an empty lane) makes `t` NaN: no hit.
+    // One sign for the three (zero counts as either) and the distance within
+    // bounds. Comparisons with a NaN are false, and a NaN anywhere (an empty lane)
+    // makes `t` NaN: no hit. A triangle seen edge-on (or degenerate) needs no test of
+    // its own: with one sign, `det = 0` only when all three are zero, and then `t` is
+    // `0 · ∞`, NaN.
     let same_sign = e0.min(e1).min(e2).ge(T::ZERO) | e0.max(e1).max(e2).le(T::ZERO);
-    let ok = same_sign & det.ne(T::ZERO) & t.gt(T::ZERO) & t.lt(limit);
+    let ok = same_sign & t.gt(T::ZERO) & t.lt(limit);
     (t, e1 * inv_det, e2 * inv_det, T::bits(ok))
 }
 

@@ -114,7 +114,7 @@ fn ties_go_to_the_lowest_primitive_index() {
 }
 
 /// A ray with a zero direction component lying exactly in its box's face: the
-/// triangle's top edge (y = 2) is hit (Möller–Trumbore includes edges), so the slab
+/// triangle's top edge (y = 2) is hit (the triangle test includes edges), so the slab
 /// test must not close the box at t = 0 (see `RayBoxes::exit_origin`).
 #[test]
 fn a_ray_in_a_box_face_still_finds_its_primitive() {

@@ -20,7 +20,7 @@ use std::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
     _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
     _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps,
-    _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
 };
 
 use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
@@ -275,9 +275,9 @@ fn zero_edge8([e0, e1, e2]: [__m256; 3]) -> u32 {
     _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(product, _mm256_setzero_ps())) as u32
 }
 
-/// `geometry::watertight::finish` in AVX registers (`simd_ne` is the unordered
-/// not-equal of `cmpneqps`; the other comparisons are ordered, false on NaN; `min`
-/// and `max` are `minps` and `maxps`, as `fast_min` and `fast_max`).
+/// `geometry::watertight::finish` in AVX registers (the comparisons are ordered,
+/// false on NaN, as `simd_ge` and the others; `min` and `max` are `minps` and
+/// `maxps`, as `fast_min` and `fast_max`).
 #[target_feature(enable = "avx")]
 #[inline]
 fn finish8([e0, e1, e2]: [__m256; 3], [az, bz, cz]: [__m256; 3], sz: __m256, limit: __m256) -> Hits8 {
@@ -293,10 +293,7 @@ fn finish8([e0, e1, e2]: [__m256; 3], [az, bz, cz]: [__m256; 3], sz: __m256, lim
         _mm256_cmp_ps::<_CMP_LE_OQ>(max(max(e0, e1), e2), zero),
     );
     let ok = and(
-        and(
-            and(same_sign, _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero)),
-            _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
-        ),
+        and(same_sign, _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero)),
         _mm256_cmp_ps::<_CMP_LT_OQ>(t, limit),
     );
     (

@@ -158,11 +158,14 @@ impl Bvh {
         t_max: f32,
     ) -> Option<u32> {
         let unbounded = &self.primitives[self.bounded..];
-        if let Some(i) = unbounded
-            .iter()
-            .position(|p| p.intersect(ray, t_max, &self.data).is_some())
-        {
-            return Some(hint_bits::PRIMITIVE | (self.bounded + i) as u32);
+        // (Tested for emptiness first: see `Bvh::unbounded_closest`.)
+        if !unbounded.is_empty() {
+            if let Some(i) = unbounded
+                .iter()
+                .position(|p| p.intersect(ray, t_max, &self.data).is_some())
+            {
+                return Some(hint_bits::PRIMITIVE | (self.bounded + i) as u32);
+            }
         }
         if self.wide.is_empty() {
             return None;

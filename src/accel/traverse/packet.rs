@@ -232,8 +232,9 @@ impl Bvh {
         assert!(n <= PACKET, "at most {PACKET} rays per packet");
         assert_eq!(out.len(), n, "one result per ray");
         let mut nearest = [Nearest::new(t_max); PACKET];
-        for (k, ray) in rays.iter().enumerate() {
-            let unbounded = &self.primitives[self.bounded..];
+        let unbounded = &self.primitives[self.bounded..];
+        // (Tested for emptiness first: see `Bvh::unbounded_closest`.)
+        for (k, ray) in rays.iter().enumerate().filter(|_| !unbounded.is_empty()) {
             for (i, p) in unbounded.iter().enumerate() {
                 if let Some(h) = p.intersect(ray, nearest[k].limit, &self.data) {
                     nearest[k].offer(h, (self.bounded + i) as u32);
