@@ -9,6 +9,7 @@
 #                                         `isa=` device setting, set by scripts/embree_isa.c),
 #                                         e.g. to compare like with like on a CPU with AVX-512
 #                                         (nffrt's kernels are AVX2, picked at run time)
+#   NFFRT_SIMD=avx2|portable              nffrt's kernels (default auto; see docs/speed.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -21,7 +22,9 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 # The CPU every figure below ran on (BENCHMARKS.md names it beside each column).
 cpu=$(awk -F': ' '/^vendor_id/ {v=$2} /^cpu family/ {f=$2} /^model\t/ {m=$2} /^flags/ {a=($2 ~ /avx512f/) ? "AVX-512" : "no AVX-512"; if ($2 !~ /avx2/) a=a ", no AVX2"} END {printf "%s family %s model %s, %s", v, f, m, a}' /proc/cpuinfo)
 l2=$(getconf LEVEL2_CACHE_SIZE 2>/dev/null || echo 0)
-echo "== CPU: $cpu, L2 $((l2 / 1024)) KiB per core, $(nproc) threads; Embree ISA: ${EMBREE_ISA:-its default (the best this CPU has)}"
+kernels=$("$nffrt" info "$shared/scenes/spd/tetra.nff" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['kernels'])")
+echo "== CPU: $cpu, L2 $((l2 / 1024)) KiB per core, $(nproc) threads; Embree ISA: ${EMBREE_ISA:-its default (the best this CPU has)}; nffrt kernels: $kernels (NFFRT_SIMD=${NFFRT_SIMD:-auto})"
+echo "== commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (with uncommitted changes)'), $(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg)"
 # Embree's instruction set pinned (EMBREE_ISA): a preloaded wrapper of rtcNewDevice.
 embree_env=()
 if [ -n "${EMBREE_ISA:-}" ]; then

@@ -327,3 +327,27 @@ fn words_numbers_and_info_json_say_what_is_there() {
     assert_eq!(j["bounds_max"][2], 3.7, "{}", j["bounds_max"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 29, goal 6: `NFFRT_SIMD` chooses the traversal kernels (`auto`, `avx2`,
+/// `portable`); `info` says which run, and a value nffrt has no kernels for is refused
+/// before any work, with the choices in words.
+#[test]
+fn nffrt_simd_chooses_the_kernels_and_refuses_unknown_ones() {
+    let info = |simd: &str| {
+        let out = common::nffrt_env(&["info", "--json", SHOWCASE], &[("NFFRT_SIMD", simd)]);
+        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        j["kernels"].as_str().unwrap().to_string()
+    };
+    assert_eq!(info("portable"), "portable");
+    let has_avx2 = cfg!(target_arch = "x86_64") && std::is_x86_feature_detected!("avx2");
+    assert_eq!(info("auto"), if has_avx2 { "avx2" } else { "portable" });
+    if has_avx2 {
+        assert_eq!(info("avx2"), "avx2");
+    }
+    let out = common::nffrt_env(&["info", SHOWCASE], &[("NFFRT_SIMD", "avx512")]);
+    assert_eq!(
+        error_line(&out, 2),
+        "nffrt: error: NFFRT_SIMD=avx512: unknown kernels; use auto, avx2 or portable \
+         (nffrt's widest kernels are AVX2)"
+    );
+}

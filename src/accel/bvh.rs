@@ -9,6 +9,7 @@ use super::leaf::cone4::Cone4;
 use super::leaf::pack::{leaf_kinds, pack_leaves, pack_of, Blocks};
 use super::leaf::sphere4::Sphere4;
 use super::leaf::tri4::Tri4;
+use super::simd::SimdLevel;
 #[cfg(target_arch = "x86_64")]
 use super::traverse::avx::Avx;
 use super::traverse::wide::Node8;
@@ -150,6 +151,15 @@ impl Bvh {
     /// The shared geometry arrays.
     pub fn data(&self) -> &GeometryData {
         &self.data
+    }
+
+    /// The traversal kernels the queries run (`accel::simd`).
+    pub fn kernels(&self) -> SimdLevel {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx.is_some() {
+            return SimdLevel::Avx2;
+        }
+        SimdLevel::Portable
     }
 
     /// The flattened nodes (root at 0).

@@ -51,6 +51,7 @@ mod check;
 mod grid;
 mod leaf;
 mod linear;
+pub mod simd;
 mod tally;
 mod traverse;
 

@@ -179,6 +179,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         format!("build_ms={build_ms:.3}"),
         format!("build_best_ms={build_best_ms:.3}"),
         format!("sah_cost={:.3}", st.sah_cost),
+        format!("kernels={}", bvh.kernels().name()),
     ];
     let mut sets = if args.rays_only {
         Vec::new()

@@ -94,6 +94,8 @@ struct InfoJson {
     /// The acceleration structure a render uses without `--accel`: the P3F file's
     /// `accel`, else `bvh`.
     accel: Accel,
+    /// The traversal kernels the queries run: `avx2` or `portable` (`NFFRT_SIMD`).
+    kernels: &'static str,
     /// P3F `spp`, if given.
     #[serde(skip_serializing_if = "Option::is_none")]
     spp: Option<u32>,
@@ -149,6 +151,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             dialect: s.dialect.name(),
             camera: CameraJson::of(&s.view),
             accel: s.accel.unwrap_or(Accel::Bvh),
+            kernels: nffrt::accel::simd::level().name(),
             spp: s.spp,
             integrator: s.integrator,
             shutter: s.shutter_interval(),
@@ -206,6 +209,12 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             accel_name(a)
         ),
         None => outln!("accel       bvh (the default; --accel chooses another)"),
+    }
+    let variable = nffrt::accel::simd::SIMD_VARIABLE;
+    let kernels = nffrt::accel::simd::level().name();
+    match nffrt::accel::simd::requested() {
+        Ok(Some(_)) => outln!("kernels     {kernels} (as {variable} asks)"),
+        _ => outln!("kernels     {kernels} (the widest this CPU runs; {variable}=avx2|portable chooses)"),
     }
     if let Some(n) = s.spp {
         outln!(

@@ -146,6 +146,10 @@ pub fn run() -> i32 {
             return exit::OK;
         }
     };
+    if let Err(message) = nffrt::accel::simd::requested() {
+        eprintln!("nffrt: error: {message}");
+        return exit::USAGE;
+    }
     interrupt::install();
     let result = match cli.command {
         Command::Gen(a) => gen::run(a),

@@ -19,7 +19,17 @@ pub fn nffrt_in(dir: &Path, args: &[&str]) -> Output {
     run_nffrt(Some(dir), args, b"")
 }
 
+/// Runs the `nffrt` binary with `vars` added to its environment, nothing on
+/// standard input.
+pub fn nffrt_env(args: &[&str], vars: &[(&str, &str)]) -> Output {
+    run_nffrt_with(None, args, b"", vars)
+}
+
 fn run_nffrt(dir: Option<&Path>, args: &[&str], stdin: &[u8]) -> Output {
+    run_nffrt_with(dir, args, stdin, &[])
+}
+
+fn run_nffrt_with(dir: Option<&Path>, args: &[&str], stdin: &[u8], vars: &[(&str, &str)]) -> Output {
     // Absent without the `cli` feature; the tests that run the binary require it.
     let Some(binary) = option_env!("CARGO_BIN_EXE_nffrt") else {
         panic!("the nffrt binary is built only with the `cli` feature");
@@ -30,6 +40,7 @@ fn run_nffrt(dir: Option<&Path>, args: &[&str], stdin: &[u8]) -> Output {
     }
     let mut child = command
         .args(args)
+        .envs(vars.iter().copied())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -8,7 +8,7 @@
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
 //! for operation and operand for operand (no fused multiply-add), so every answer and
 //! every image is bit-identical whichever version runs. `NFFRT_SIMD=portable` in the
-//! environment turns them off, to measure or check the portable kernels.
+//! environment turns them off, to measure or check the portable kernels (`accel::simd`).
 //!
 //! This is the crate's only `unsafe` code: calling functions compiled for a CPU
 //! feature, which is sound because an [`Avx`] value exists only once the features
@@ -28,6 +28,7 @@ use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
 use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
 use crate::accel::leaf::tri4::{Ray4, Tri4};
+use crate::accel::simd::{self, SimdLevel};
 use crate::geometry::watertight::exact_lanes;
 use crate::geometry::Hit;
 use crate::math::Ray;
@@ -38,18 +39,11 @@ use crate::math::Ray;
 pub struct Avx(());
 
 impl Avx {
-    /// `Some` when this CPU has the features the AVX kernels are compiled for, unless
-    /// the environment variable `NFFRT_SIMD` is `portable`.
+    /// `Some` when the queries run the AVX2 kernels: this CPU has the features they
+    /// are compiled for and `NFFRT_SIMD` does not ask for the portable ones
+    /// (`accel::simd`).
     pub fn detect() -> Option<Avx> {
-        if std::env::var_os("NFFRT_SIMD").is_some_and(|v| v == "portable") {
-            return None;
-        }
-        let all = is_x86_feature_detected!("avx")
-            && is_x86_feature_detected!("avx2")
-            && is_x86_feature_detected!("bmi1")
-            && is_x86_feature_detected!("bmi2")
-            && is_x86_feature_detected!("lzcnt");
-        all.then_some(Avx(()))
+        (simd::level() == SimdLevel::Avx2).then_some(Avx(()))
     }
 
     /// [`Bvh::closest_hit`], compiled for AVX2.
