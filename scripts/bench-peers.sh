@@ -10,6 +10,8 @@
 #                                         e.g. to compare like with like on a CPU with AVX-512
 #                                         (nffrt's kernels are AVX2, picked at run time)
 #   NFFRT_SIMD=avx2|portable              nffrt's kernels (default auto; see docs/speed.md)
+#   SECTIONS=embree                       only the sections against Embree (the ones EMBREE_ISA
+#                                         changes); default all
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -33,20 +35,27 @@ if [ -n "${EMBREE_ISA:-}" ]; then
 fi
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
-wall() { local t0 t1; t0=$(date +%s%N); "$@" >/dev/null 2>&1; t1=$(date +%s%N); awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
-total() { local s=0 t; for scene in "$@"; do t=$(wall "$nffrt" render "$scene" $NFFRT_FLAGS -q -o "$tmp/out.png"); s=$(awk -v s="$s" -v t="$t" 'BEGIN {print s+t}'); done; echo "$s"; }
+# "wall cpu" seconds of a command (cpu: user + system of it and its children).
+timed() { /usr/bin/time -f '%e %U %S' -o "$tmp/time" "$@" >/dev/null 2>&1; awk '{printf "%.3f %.3f\n", $1, $2 + $3}' "$tmp/time"; }
+# Sums "wall cpu" pairs, one per line.
+sum2() { awk '{w += $1; c += $2} END {printf "%.3f %.3f\n", w, c}'; }
+total() { for scene in "$@"; do timed "$nffrt" render "$scene" $NFFRT_FLAGS -q -o "$tmp/out.png"; done | sum2; }
+# Medians of the two columns of "wall cpu" lines.
+median2() { local in; in=$(cat); echo "$(echo "$in" | cut -d' ' -f1 | median) $(echo "$in" | cut -d' ' -f2 | median)"; }
 
+# SECTIONS=embree runs only the sections with Embree (those EMBREE_ISA changes).
+if [ "${SECTIONS:-all}" = all ]; then
 spd=(balls gears mount rings teapot tetra tree)
-echo "== whole renders (wall seconds, median of $runs)"
+echo "== whole renders (wall and CPU seconds, user + system, median of $runs)"
 spd_files=(); for s in "${spd[@]}"; do spd_files+=("$shared/scenes/spd/$s.nff"); done
-NFFRT_FLAGS=--spd; nffrt_spd=$(for _ in $(seq "$runs"); do total "${spd_files[@]}"; done | median)
-echo "nffrt --spd, 7 SPD scenes:        $nffrt_spd s"
+NFFRT_FLAGS=--spd; read -r nffrt_spd nffrt_spd_cpu < <(for _ in $(seq "$runs"); do total "${spd_files[@]}"; done | median2)
+echo "nffrt --spd, 7 SPD scenes:        $nffrt_spd s wall, $nffrt_spd_cpu s CPU"
 p3d_files=(); for s in balls_low balls_medium balls_high mount_low mount_high mount_very_high; do p3d_files+=("$shared/scenes/p3d/$s.nff"); done
-NFFRT_FLAGS="--width 512 --height 512"; nffrt_p3d=$(for _ in $(seq "$runs"); do total "${p3d_files[@]}"; done | median)
-echo "nffrt, 6 course scenes 512x512:   $nffrt_p3d s"
+NFFRT_FLAGS="--width 512 --height 512"; read -r nffrt_p3d nffrt_p3d_cpu < <(for _ in $(seq "$runs"); do total "${p3d_files[@]}"; done | median2)
+echo "nffrt, 6 course scenes 512x512:   $nffrt_p3d s wall, $nffrt_p3d_cpu s CPU"
 if command -v povray >/dev/null; then
-    pov=$(for _ in $(seq "$runs"); do s=0; for n in "${spd[@]}"; do t=$("$shared/bench/povray_peer.sh" "$n" 2>/dev/null | tail -1); s=$(awk -v s="$s" -v t="$t" 'BEGIN {print s+t}'); done; echo "$s"; done | median)
-    echo "POV-Ray 3.7, 7 SPD scenes:        $pov s   (ratio POV-Ray / nffrt = $(awk -v a="$pov" -v b="$nffrt_spd" 'BEGIN {printf "%.1f", a/b}'))"
+    read -r pov pov_cpu < <(for _ in $(seq "$runs"); do for n in "${spd[@]}"; do timed "$shared/bench/povray_peer.sh" "$n"; done | sum2; done | median2)
+    echo "POV-Ray 3.7, 7 SPD scenes:        $pov s wall, $pov_cpu s CPU   (ratio POV-Ray / nffrt = $(awk -v a="$pov" -v b="$nffrt_spd" 'BEGIN {printf "%.1f", a/b}') wall, $(awk -v a="$pov_cpu" -v b="$nffrt_spd_cpu" 'BEGIN {printf "%.1f", a/b}') CPU)"
 fi
 
 echo "== scale: nffrt gen balls, sizes 4 (7 381 spheres) and 6 (597 871), 1 thread (median of $runs)"
@@ -74,6 +83,8 @@ for gen in "balls 3" "balls 4" "balls 5" "balls 6" "mount 5" "mount 7" "mount 9"
     col() { echo "$st" | cut -d' ' -f"$1" | median; }
     printf '%-10s %10s %9.3f %9.3f %9.3f %12.1f %10.0f\n' "$1-$2" "$(echo "$st" | head -1 | cut -d' ' -f5)" "$(col 1)" "$(col 2)" "$(col 3)" "$(col 4)" "$(col 6)"
 done
+
+fi
 
 if [ -x "$py" ]; then
     echo "== traversal, single thread, same rays (Mrays/s; each process reports the best and the median of its 10 passes, this table the median over $runs processes; occlusion: best)"
