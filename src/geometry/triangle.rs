@@ -69,14 +69,8 @@ impl Triangle {
     /// leaf blocks' lanes (see [`super::watertight`]).
     #[inline]
     pub fn intersect_sheared(&self, ray: &Sheared, t_max: f32) -> Option<Hit> {
-        let (t, u, v, hit) = match watertight(
-            &ray.origin,
-            &ray.shear,
-            &ray.permute(&self.v0.to_array()),
-            &ray.permute(&self.v1.to_array()),
-            &ray.permute(&self.v2.to_array()),
-            t_max,
-        ) {
+        let [v0, v1, v2] = self.in_frame(ray);
+        let (t, u, v, hit) = match watertight(&ray.origin, &ray.shear, &v0, &v1, &v2, t_max) {
             Some(found) => found,
             None => self.intersect_exact(ray, t_max),
         };
@@ -87,14 +81,14 @@ impl Triangle {
     #[cold]
     #[inline(never)]
     fn intersect_exact(&self, ray: &Sheared, t_max: f32) -> (f32, f32, f32, u32) {
-        watertight_exact(
-            &ray.origin,
-            &ray.shear,
-            &ray.permute(&self.v0.to_array()),
-            &ray.permute(&self.v1.to_array()),
-            &ray.permute(&self.v2.to_array()),
-            t_max,
-        )
+        let [v0, v1, v2] = self.in_frame(ray);
+        watertight_exact(&ray.origin, &ray.shear, &v0, &v1, &v2, t_max)
+    }
+
+    /// The vertices' coordinates in the order of the ray's frame ([`Sheared::axes`]).
+    #[inline(always)]
+    fn in_frame(&self, ray: &Sheared) -> [[f32; 3]; 3] {
+        [self.v0, self.v1, self.v2].map(|p| ray.permute(&p.to_array()))
     }
 
     /// Phase two: the point (from the barycentrics, so it lies in the plane), the
