@@ -48,7 +48,7 @@ secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
 
 # nffrt NAME SCENE [FLAGS...]: one whole-process run; appends wall seconds to
 # $work/NAME.times, CPU seconds (user + system) to $work/NAME.cpu and
-# parse/build/render seconds to $work/NAME.stages.
+# load (read, parse, skybox decode) / build / render seconds to $work/NAME.stages.
 run_nffrt() {
     local name=$1 scene=$2 t0 t1; shift 2
     t0=$(now)
@@ -57,7 +57,7 @@ run_nffrt() {
     t1=$(now)
     secs "$t0" "$t1" >>"$work/$name.times"
     awk '{print $1 + $2}' "$work/cpu" >>"$work/$name.cpu"
-    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['parse_s'], d['build_s'], d['render_s'])" \
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['load_s'], d['build_s'], d['render_s'])" \
         "$work/$name.json" >>"$work/$name.stages"
 }
 
@@ -97,7 +97,7 @@ stage() { cut -d' ' -f"$2" "$work/$1.stages" | median; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a/b}'; }
 echo
 echo "P3F scenes, whole-process wall seconds, medians of $runs runs"
-echo "(in brackets: nffrt's parse incl. skybox decode / build / render, POV-Ray's parse incl. skybox"
+echo "(in brackets: nffrt's load incl. skybox decode / build / render, POV-Ray's parse incl. skybox"
 echo "decode / trace; CPU: user + system seconds of the whole process)"
 echo "| scene | nffrt wall (stages) | POV-Ray 3.7 wall (stages) | POV-Ray / nffrt, wall | CPU nffrt / POV-Ray | POV-Ray / nffrt, CPU |"
 echo "|---|---|---|---|---|---|"
