@@ -13,8 +13,10 @@
 #                    eye sample) against POV-Ray on scripts/pov/balls_area_low.pov (one eye
 #                    ray per pixel, area_light 4x4 jitter adaptive 0, skybox)
 #   ... --spp 1      nffrt's default for that scene: one eye ray per pixel, each area light
-#                    on its 4x4 grid at every hit, the same work as POV-Ray's (like for
-#                    like), against the same POV-Ray runs
+#                    on its 4x4 grid at every hit, against the same POV-Ray runs
+#   ... full grid    the same nffrt runs against POV-Ray on that scene without `adaptive`
+#                    (balls_area_low_full.pov, made here): all 16 shadow rays of each
+#                    area light at every hit, exactly nffrt's work (like for like)
 #   dragon           nffrt on 2025/dragon.p3f and 2019/dragon.p3f (goal: under 1 s)
 # POV-Ray runs as the SPD peer does (../shared/bench/povray_peer.sh): +W +H of the scene,
 # -A (no antialiasing), +WT2, -D, PNG, in a temporary working directory (its file I/O
@@ -38,6 +40,7 @@ out=$(cd "$out" && pwd)
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 cp -r "$p3f/2019/skybox" "$work/"
 cp scripts/pov/dof.pov scripts/pov/balls_area_low.pov "$work/"
+sed 's/ adaptive 0//' scripts/pov/balls_area_low.pov >"$work/balls_area_low_full.pov"
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 now() { date +%s%N; }
@@ -45,7 +48,7 @@ secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
 
 # nffrt NAME SCENE [FLAGS...]: one whole-process run; appends wall seconds to
 # $work/NAME.times, CPU seconds (user + system) to $work/NAME.cpu and
-# parse/build/render seconds to $work/NAME.stages.
+# load (read, parse, skybox decode) / build / render seconds to $work/NAME.stages.
 run_nffrt() {
     local name=$1 scene=$2 t0 t1; shift 2
     t0=$(now)
@@ -54,7 +57,7 @@ run_nffrt() {
     t1=$(now)
     secs "$t0" "$t1" >>"$work/$name.times"
     awk '{print $1 + $2}' "$work/cpu" >>"$work/$name.cpu"
-    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['parse_s'], d['build_s'], d['render_s'])" \
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['load_s'], d['build_s'], d['render_s'])" \
         "$work/$name.json" >>"$work/$name.stages"
 }
 
@@ -83,6 +86,7 @@ for i in $(seq "$runs"); do
     run_nffrt balls_area_low "$p3f/2019/balls_area_low.p3f" --spp 16
     run_povray balls_area_low 512 512
     run_nffrt balls_area_low-spp1 "$p3f/2019/balls_area_low.p3f" --spp 1
+    run_povray balls_area_low_full 512 512
     run_nffrt dragon-2025 "$p3f/2025/dragon.p3f"
     run_nffrt dragon-2019 "$p3f/2019/dragon.p3f"
 done
@@ -93,7 +97,7 @@ stage() { cut -d' ' -f"$2" "$work/$1.stages" | median; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a/b}'; }
 echo
 echo "P3F scenes, whole-process wall seconds, medians of $runs runs"
-echo "(in brackets: nffrt's parse incl. skybox decode / build / render, POV-Ray's parse incl. skybox"
+echo "(in brackets: nffrt's load incl. skybox decode / build / render, POV-Ray's parse incl. skybox"
 echo "decode / trace; CPU: user + system seconds of the whole process)"
 echo "| scene | nffrt wall (stages) | POV-Ray 3.7 wall (stages) | POV-Ray / nffrt, wall | CPU nffrt / POV-Ray | POV-Ray / nffrt, CPU |"
 echo "|---|---|---|---|---|---|"
@@ -112,7 +116,8 @@ row() {
 }
 row "2025/dof.p3f, 800x600, spp 4, aperture 12" dof dof
 row "2019/balls_area_low.p3f, --spp 16" balls_area_low balls_area_low
-row "2019/balls_area_low.p3f, --spp 1 (4x4 grid per hit)" balls_area_low-spp1 balls_area_low
+row "2019/balls_area_low.p3f, --spp 1 (4x4 grid per hit) vs adaptive 0" balls_area_low-spp1 balls_area_low
+row "2019/balls_area_low.p3f, --spp 1 vs POV-Ray's full 4x4 grid (no adaptive)" balls_area_low-spp1 balls_area_low_full
 row "2025/dragon.p3f, 800x600" dragon-2025
 row "2019/dragon.p3f, 800x600" dragon-2019
 echo

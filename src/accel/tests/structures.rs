@@ -1,10 +1,11 @@
 //! The grid and the scan (`--accel grid|none`) give the BVH's answers exactly: the
 //! same hit, distance and primitive, ties included, and the same occlusion, on random
 //! scenes of spheres, triangles and a plane, on coincident primitives (ties), and on
-//! rays along the grid's cell boundaries; and each counts the work it does.
+//! rays along the grid's cell boundaries, for single rays and packets of shadow rays;
+//! and each counts the work it does.
 
 use super::*;
-use crate::accel::{Aggregate, QueryCounts};
+use crate::accel::{Aggregate, QueryCounts, Ray8};
 use crate::scene::{Accel, Plane};
 
 /// The three structures over `scene`.
@@ -56,9 +57,36 @@ proptest! {
             });
         }
         let structures = all_three(&scene);
-        for (o, d) in rays {
-            if d.length() > 0.01 {
-                assert_same_answers(&structures, &Ray::new(o, d));
+        let rays: Vec<Ray> = rays
+            .iter()
+            .filter(|(_, d)| d.length() > 0.01)
+            .map(|&(o, d)| Ray::new(o, d))
+            .collect();
+        for ray in &rays {
+            assert_same_answers(&structures, ray);
+        }
+        assert_packets_answer_each_ray(&structures, &rays);
+    }
+}
+
+/// Every structure's packet occlusion gives each active ray its single-ray answer,
+/// and inactive rays nothing, in packets of one to eight rays with lanes left out.
+fn assert_packets_answer_each_ray(structures: &[Aggregate; 3], rays: &[Ray]) {
+    let t_max = [0.5, 3.0, f32::INFINITY, 1.0, 7.5, 0.1, 20.0, 2.0];
+    for (c, packet) in rays.chunks(8).enumerate() {
+        let packed = Ray8::new(packet);
+        let all = (1u32 << packet.len()) - 1;
+        for active in [all, all & (0b1011_0110 >> (c % 3)), 0] {
+            for s in structures {
+                let want = (0..packet.len())
+                    .filter(|&k| active >> k & 1 != 0 && s.occluded(&packet[k], t_max[k]))
+                    .fold(0, |bits, k| bits | 1 << k);
+                assert_eq!(
+                    s.occluded8(&packed, &t_max, active),
+                    want,
+                    "{:?}, {active:#b}",
+                    s.kind()
+                );
             }
         }
     }
