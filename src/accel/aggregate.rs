@@ -10,6 +10,7 @@ use std::cell::Cell;
 
 use super::bvh::Bvh;
 use super::grid::Grid;
+use super::leaf::ray8::Ray8;
 use super::tally::{QueryCounts, Tally};
 use crate::geometry::{GeometryData, Hit, Primitive};
 use crate::math::Ray;
@@ -92,6 +93,34 @@ impl Aggregate {
         for (ray, hit) in rays.iter().zip(out) {
             *hit = self.closest_hit(ray, t_max);
         }
+    }
+
+    /// The closest hits of the rays of `rays` whose bits are set in `active`, into
+    /// `out` (`None` for the other lanes): the BVH traces them as a packet
+    /// ([`Bvh::closest_hits8`]), the others one at a time.
+    #[inline]
+    pub fn closest_hits8(&self, rays: &Ray8, t_max: f32, active: u32, out: &mut [Option<(Hit, u32)>; 8]) {
+        if let Structure::Bvh = self.structure {
+            return self.bvh.closest_hits8(rays, t_max, active, out);
+        }
+        for (k, hit) in out.iter_mut().enumerate() {
+            *hit = (active >> k & 1 != 0)
+                .then(|| self.closest_hit(&rays.ray(k), t_max))
+                .flatten();
+        }
+    }
+
+    /// The bits of the rays of `rays` whose bits are set in `active` with anything on
+    /// them with `0 < t < t_max[k]`: the BVH traces them as a packet
+    /// ([`Bvh::occluded8`]), the others one at a time.
+    #[inline]
+    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32) -> u32 {
+        if let Structure::Bvh = self.structure {
+            return self.bvh.occluded8(rays, t_max, active);
+        }
+        (0..8)
+            .filter(|&k| active >> k & 1 != 0 && self.occluded(&rays.ray(k), t_max[k]))
+            .fold(0, |bits, k| bits | 1 << k)
     }
 
     /// True when anything lies on the ray with `0 < t < t_max`.

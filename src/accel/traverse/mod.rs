@@ -7,6 +7,8 @@
 pub(super) mod avx;
 pub(super) mod nearest;
 pub(super) mod occlusion;
+pub(super) mod octant;
 pub(super) mod packet;
+pub(super) mod packet_occlusion;
 pub(super) mod single;
 pub(super) mod wide;
