@@ -39,6 +39,9 @@ pub(super) const TOGETHER: u32 = 4;
 
 /// A subtree entered by at most this many of a packet's rays is walked by each of
 /// them alone, with the single-ray traversal (cheaper per node than the packet's).
+/// Measured on 600 000 small spheres (`nffrt gen balls --size 6`, primary rays,
+/// packets against single rays in the same run, medians of three): none handed over
+/// 1.31x, at most 2 rays 1.45x, 4 rays 1.18x, 6 rays 1.35x.
 pub(super) const SOLO: u32 = 2;
 
 /// A node to visit: its index, the rays entering it (as bits), and a lower bound of
