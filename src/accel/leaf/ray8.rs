@@ -57,10 +57,11 @@ impl Ray8 {
         };
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
+            let (o, d, inv) = (ray.origin.to_array(), ray.dir.to_array(), ray.inv_dir.to_array());
             for axis in 0..3 {
-                r.origin[axis][k] = ray.origin[axis];
-                r.dir[axis][k] = ray.dir[axis];
-                r.inv[axis][k] = ray.inv_dir[axis];
+                r.origin[axis][k] = o[axis];
+                r.dir[axis][k] = d[axis];
+                r.inv[axis][k] = inv[axis];
             }
             r.time[k] = ray.time;
         }

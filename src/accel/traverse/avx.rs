@@ -520,6 +520,85 @@ mod tests {
         assert!(entered > 200, "only {entered} boxes entered: too weak a test");
     }
 
+    /// The eight-ray slab test (AVX and portable) gives each ray of an octant the
+    /// single-ray test's answer for the box, and the frustum test (AVX and portable)
+    /// never culls a box one of them enters, with an entry bound no farther than
+    /// theirs.
+    #[test]
+    fn packet_box_tests_agree_with_the_single_ray_test() {
+        use crate::accel::traverse::octant::{Octants, PacketBoxes};
+        let Some(avx) = Avx::detect() else {
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let mut rnd = crate::accel::tests::uniform(0x2545_f491);
+        let mut node = crate::accel::traverse::wide::EMPTY;
+        let mut entered = 0;
+        for round in 0..800 {
+            for lane in 0..7 {
+                for axis in 0..3 {
+                    let (a, b) = (rnd() * 8.0 - 4.0, rnd() * 8.0 - 4.0);
+                    node.bounds[MIN][axis][lane] = a.min(b);
+                    node.bounds[MAX][axis][lane] = a.max(b);
+                }
+            }
+            let o = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 12.0;
+            let base = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5);
+            let rays: Vec<Ray> = (0..8)
+                .map(|k| {
+                    let mut d =
+                        base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * (round % 4) as f32 * 0.2;
+                    if (round + k) % 11 == 0 {
+                        d = Vec3::new(0.0, d.y, d.z);
+                    }
+                    Ray::new(
+                        o,
+                        if d.length() > 1e-3 {
+                            d
+                        } else {
+                            Vec3::new(0.0, 0.0, 1.0)
+                        },
+                    )
+                })
+                .collect();
+            let r8 = Ray8::new(&rays);
+            let boxes = PacketBoxes::new(&r8);
+            let limits = std::array::from_fn(|k| [f32::INFINITY, 6.0, 3.0][(k + round) % 3]);
+            let mut octants = Octants::new(&boxes, 0xff);
+            while let Some(octant) = octants.next(&boxes) {
+                let t_limit = (0..8)
+                    .filter(|k| octant.lanes >> k & 1 != 0)
+                    .fold(0.0f32, |t, k| t.max(limits[k]));
+                let frusta = octant.frustum.map(|f| {
+                    (
+                        Portable.frustum(&node, &f, t_limit),
+                        avx.frustum(&node, &f, t_limit),
+                    )
+                });
+                for lane in 0..8 {
+                    let got = Portable.entered8(&node, lane, &boxes, &octant.near, &limits) & octant.lanes;
+                    let got_avx = avx.entered8(&node, lane, &boxes, &octant.near, &limits) & octant.lanes;
+                    assert_eq!(got, got_avx, "round {round} lane {lane}");
+                    for k in (0..8).filter(|k| octant.lanes >> k & 1 != 0) {
+                        let one = RayBoxes::new(&rays[k]);
+                        let (t, mask) = Portable.entries(&node, &one, limits[k]);
+                        let want = mask >> lane & 1 != 0 && t[lane] < limits[k];
+                        assert_eq!(got >> k & 1 != 0, want, "round {round} lane {lane} ray {k}");
+                        if let (true, Some(((near, hit), (near_avx, hit_avx)))) = (want, frusta) {
+                            assert!(
+                                hit >> lane & 1 != 0 && hit_avx >> lane & 1 != 0,
+                                "round {round} lane {lane}"
+                            );
+                            assert!(near[lane] <= t[lane] && near_avx[lane] <= t[lane]);
+                        }
+                        entered += u32::from(want);
+                    }
+                }
+            }
+        }
+        assert!(entered > 1000, "only {entered} boxes entered: too weak a test");
+    }
+
     /// The AVX triangle test of eight rays gives the portable one's results bit for bit.
     #[test]
     fn avx_hits8_equals_the_portable_one_bit_for_bit() {
