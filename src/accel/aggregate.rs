@@ -10,10 +10,10 @@ use std::cell::Cell;
 
 use super::bvh::Bvh;
 use super::grid::Grid;
-use super::leaf::ray8::{Ray8, RAYS};
+use super::leaf::ray8::Ray8;
 use super::tally::{QueryCounts, Tally};
 use crate::geometry::{GeometryData, Hit, Primitive};
-use crate::math::{Ray, Vec3};
+use crate::math::Ray;
 use crate::scene::Accel;
 
 /// A scene's primitives with the acceleration structure chosen for them.
@@ -95,6 +95,34 @@ impl Aggregate {
         }
     }
 
+    /// The closest hits of the rays of `rays` whose bits are set in `active`, into
+    /// `out` (`None` for the other lanes): the BVH traces them as a packet
+    /// ([`Bvh::closest_hits8`]), the others one at a time.
+    #[inline]
+    pub fn closest_hits8(&self, rays: &Ray8, t_max: f32, active: u32, out: &mut [Option<(Hit, u32)>; 8]) {
+        if let Structure::Bvh = self.structure {
+            return self.bvh.closest_hits8(rays, t_max, active, out);
+        }
+        for (k, hit) in out.iter_mut().enumerate() {
+            *hit = (active >> k & 1 != 0)
+                .then(|| self.closest_hit(&rays.ray(k), t_max))
+                .flatten();
+        }
+    }
+
+    /// The bits of the rays of `rays` whose bits are set in `active` with anything on
+    /// them with `0 < t < t_max[k]`: the BVH traces them as a packet
+    /// ([`Bvh::occluded8`]), the others one at a time.
+    #[inline]
+    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32) -> u32 {
+        if let Structure::Bvh = self.structure {
+            return self.bvh.occluded8(rays, t_max, active);
+        }
+        (0..8)
+            .filter(|&k| active >> k & 1 != 0 && self.occluded(&rays.ray(k), t_max[k]))
+            .fold(0, |bits, k| bits | 1 << k)
+    }
+
     /// True when anything lies on the ray with `0 < t < t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
@@ -109,22 +137,6 @@ impl Aggregate {
             Structure::Bvh => self.bvh.occluded_hinted(ray, t_max, hint),
             _ => self.occluded(ray, t_max),
         }
-    }
-
-    /// For each active ray of `rays` (bit `k` of `active` for ray `k`), true when
-    /// anything lies on it with `0 < t < t_max[k]`: the bits of the occluded ones,
-    /// each [`Aggregate::occluded`]'s answer. The BVH answers the packet at once
-    /// ([`Bvh::occluded8`]), the grid and the scan ray by ray. A [`Ray8`] carries no
-    /// time: the scene is seen at time 0, so scenes with moving geometry trace their
-    /// shadow rays one by one.
-    #[inline]
-    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32) -> u32 {
-        if let Structure::Bvh = self.structure {
-            return self.bvh.occluded8(rays, t_max, active);
-        }
-        lanes(active)
-            .filter(|&k| self.occluded(&lane_ray(rays, k), t_max[k]))
-            .fold(0, |blocked, k| blocked | 1 << k)
     }
 
     /// [`Aggregate::occluded`] counting the work it does into `tally` (the BVH's
@@ -151,31 +163,5 @@ impl Aggregate {
     /// The shared geometry arrays.
     pub fn data(&self) -> &GeometryData {
         self.bvh.data()
-    }
-}
-
-/// The lanes whose bits are set in `active` (of the first [`RAYS`]), in order.
-#[inline(always)]
-pub(super) fn lanes(active: u32) -> impl Iterator<Item = usize> {
-    let mut left = active & ((1 << RAYS) - 1);
-    std::iter::from_fn(move || {
-        (left != 0).then(|| {
-            let k = left.trailing_zeros() as usize;
-            left &= left - 1;
-            k
-        })
-    })
-}
-
-/// Ray `k` of `rays` as a single ray, bit for bit the one packed (at time 0: a
-/// [`Ray8`] carries no time).
-#[inline(always)]
-pub(super) fn lane_ray(rays: &Ray8, k: usize) -> Ray {
-    let lane = |a: &[[f32; RAYS]; 3]| Vec3::new(a[0][k], a[1][k], a[2][k]);
-    Ray {
-        origin: lane(&rays.origin),
-        dir: lane(&rays.dir),
-        inv_dir: lane(&rays.inv),
-        time: 0.0,
     }
 }

@@ -29,7 +29,8 @@ pub struct Whitted<'a, M: Rules> {
     /// False: every surface smooth.
     roughness: bool,
     /// Area lights' points traced as packets of shadow rays ([`SHADOW_PACKET`]); false
-    /// with moving geometry (a packet carries no time).
+    /// with moving geometry, which keeps one shadow ray at a time (the packet queries
+    /// carry ray times, but their tests cover static scenes only).
     packets: bool,
     rules: PhantomData<fn() -> M>,
 }

@@ -28,6 +28,10 @@ pub const MAX_LEAF: usize = 8;
 /// Past this depth the builder splits at the object median, which bounds the depth
 /// by about `MAX_SAH_DEPTH + log2(n)` and so keeps traversal stacks small.
 const MAX_SAH_DEPTH: u32 = 32;
+/// The deepest a tree can be (root = 1): past [`MAX_SAH_DEPTH`] every split halves
+/// its primitives (fewer than 2^32) until one is left. Fixed-size traversal stacks
+/// are sized from it.
+pub const MAX_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
 /// Subtrees over this many primitives are split between threads.
 pub const PARALLEL_ITEMS: usize = 4096;
 
@@ -151,6 +155,7 @@ pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Bui
         );
     }
     let order = items.iter().map(Item::index).collect();
+    debug_assert!(depth <= MAX_DEPTH);
     Built { nodes, order, depth }
 }
 

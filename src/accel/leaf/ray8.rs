@@ -13,7 +13,7 @@ use wide::f32x8;
 
 use super::tri4::{Ray4, Tri4, LANES};
 use crate::geometry::watertight::{watertight, watertight_exact, Axis, Sheared};
-use crate::math::Ray;
+use crate::math::{Ray, Vec3};
 
 /// Rays per [`Ray8`].
 pub const RAYS: usize = 8;
@@ -35,6 +35,8 @@ pub struct Ray8 {
     pub axes: [[Axis; 3]; RAYS],
     /// The axes, when all eight rays have the same.
     pub shared_axes: Option<[Axis; 3]>,
+    /// Times (`Ray::time`).
+    pub time: [f32; RAYS],
 }
 
 impl Ray8 {
@@ -51,14 +53,17 @@ impl Ray8 {
             shear: [[0.0; RAYS]; 3],
             axes: [[Axis::X; 3]; RAYS],
             shared_axes: None,
+            time: [0.0; RAYS],
         };
         for k in 0..RAYS {
             let ray = &rays[k.min(n - 1)];
+            let (o, d, inv) = (ray.origin.to_array(), ray.dir.to_array(), ray.inv_dir.to_array());
             for axis in 0..3 {
-                r.origin[axis][k] = ray.origin[axis];
-                r.dir[axis][k] = ray.dir[axis];
-                r.inv[axis][k] = ray.inv_dir[axis];
+                r.origin[axis][k] = o[axis];
+                r.dir[axis][k] = d[axis];
+                r.inv[axis][k] = inv[axis];
             }
+            r.time[k] = ray.time;
         }
         r.shear_all();
         r
@@ -109,6 +114,18 @@ impl Ray8 {
         }
         let uniform = |bits: u32| bits == 0 || bits == (1 << RAYS) - 1;
         self.shared_axes = (uniform(is_x) && uniform(is_y) && uniform(neg)).then_some(self.axes[0]);
+    }
+
+    /// Ray `k` as it was packed (the very same fields).
+    #[inline(always)]
+    pub fn ray(&self, k: usize) -> Ray {
+        let lane = |a: &[[f32; RAYS]; 3]| Vec3::new(a[0][k], a[1][k], a[2][k]);
+        Ray {
+            origin: lane(&self.origin),
+            dir: lane(&self.dir),
+            inv_dir: lane(&self.inv),
+            time: self.time[k],
+        }
     }
 
     /// Ray `k`'s frame.

@@ -4,8 +4,8 @@
 use super::*;
 
 /// Packets give every ray exactly its single-ray answer (hit, distance bits and
-/// primitive), for coherent rays from one point (the interval test) and for rays
-/// whose directions differ in sign (ray-by-ray tests), packets of 1 to 8 rays, with
+/// primitive), for coherent rays from one point (the frustum test) and for rays
+/// whose directions differ in sign (one walk per octant), packets of 1 to 8 rays, with
 /// the kernels this CPU chose and with the portable ones, and so does the stream of
 /// all of them (`closest_hits`); the scene has many exact ties (triangles sharing
 /// edges, a grid of coincident spheres).

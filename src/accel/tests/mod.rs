@@ -13,6 +13,7 @@ use proptest::prelude::*;
 
 mod brute;
 mod edges;
+mod packets8;
 mod structures;
 mod watertight;
 

@@ -37,6 +37,28 @@ fn assert_same_answers(structures: &[Aggregate; 3], ray: &Ray) {
     }
 }
 
+/// Every structure answers each active ray of the eight-ray queries as the BVH
+/// answers it alone.
+fn assert_same_packet_answers(structures: &[Aggregate; 3], rays: &[Ray], active: u32) {
+    let r8 = crate::accel::Ray8::new(rays);
+    let limits = std::array::from_fn(|k| [0.5f32, 3.0, f32::INFINITY][k % 3]);
+    for s in structures {
+        let mut out = [None; 8];
+        s.closest_hits8(&r8, f32::INFINITY, active, &mut out);
+        let blocked = s.occluded8(&r8, &limits, active);
+        for k in 0..8 {
+            let on = active >> k & 1 != 0;
+            let ray = &rays[k.min(rays.len() - 1)];
+            let want = on
+                .then(|| structures[0].closest_hit(ray, f32::INFINITY))
+                .flatten();
+            assert_eq!(out[k], want, "{:?}, ray {k}", s.kind());
+            let occluded = on && structures[0].occluded(ray, limits[k]);
+            assert_eq!(blocked >> k & 1 != 0, occluded, "{:?}, ray {k}", s.kind());
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
@@ -57,13 +79,13 @@ proptest! {
             });
         }
         let structures = all_three(&scene);
-        let rays: Vec<Ray> = rays
-            .iter()
-            .filter(|(_, d)| d.length() > 0.01)
-            .map(|&(o, d)| Ray::new(o, d))
-            .collect();
+        let rays: Vec<Ray> = rays.into_iter().filter(|(_, d)| d.length() > 0.01).map(|(o, d)| Ray::new(o, d)).collect();
         for ray in &rays {
             assert_same_answers(&structures, ray);
+        }
+        for (i, packet) in rays.chunks(8).enumerate() {
+            let active = [0xff, 0b0101_1010, 0b1000_0001][i % 3];
+            assert_same_packet_answers(&structures, packet, active);
         }
         assert_packets_answer_each_ray(&structures, &rays);
     }

@@ -2,7 +2,7 @@
 //!
 //! The release build targets baseline x86_64 (SSE2), where `wide::f32x8` is two SSE
 //! registers. On a CPU with AVX2 (detected once per BVH), [`Bvh::closest_hit`],
-//! [`Bvh::occluded`] and [`Bvh::closest_hit_packet`] run copies of themselves compiled
+//! [`Bvh::occluded`], [`Bvh::closest_hits8`] and [`Bvh::occluded8`] run copies of themselves compiled
 //! for AVX2, whose eight-lane slab test (and the eight-lane watertight triangle tests: two blocks
 //! against a ray, one triangle against a packet's rays) is one AVX register wide (7 % off whole renders, 2 to 9 % more rays per second
 //! in `nffrt bench`; BENCHMARKS.md). The arithmetic is the portable test's, operation
@@ -23,7 +23,8 @@ use std::arch::x86_64::{
     _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
 };
 
-use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, WIDTH};
+use super::octant::{Frustum, PacketBoxes};
+use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, MAX, WIDTH};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
 use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
@@ -53,11 +54,25 @@ impl Avx {
         unsafe { closest_hit_avx(self, bvh, ray, t_max) }
     }
 
-    /// [`Bvh::closest_hit_packet`], compiled for AVX2.
+    /// [`Bvh::closest_hits8`], compiled for AVX2.
     #[inline]
-    pub fn closest_hit_packet(self, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
+    pub fn closest_hits8(
+        self,
+        bvh: &Bvh,
+        rays: &Ray8,
+        t_max: f32,
+        active: u32,
+        out: &mut [Option<(Hit, u32)>; RAYS],
+    ) {
         // SAFETY: as in `closest_hit`.
-        unsafe { closest_hit_packet_avx(self, bvh, rays, t_max, out) }
+        unsafe { closest_hits8_avx(self, bvh, rays, t_max, active, out) }
+    }
+
+    /// [`Bvh::occluded8`], compiled for AVX2.
+    #[inline]
+    pub fn occluded8(self, bvh: &Bvh, rays: &Ray8, t_max: &[f32; RAYS], active: u32) -> u32 {
+        // SAFETY: as in `closest_hit`.
+        unsafe { occluded8_avx(self, bvh, rays, t_max, active) }
     }
 
     /// `Bvh::occluder`, compiled for AVX2.
@@ -74,8 +89,20 @@ fn closest_hit_avx(avx: Avx, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<(Hit, u
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
-fn closest_hit_packet_avx(avx: Avx, bvh: &Bvh, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
-    bvh.closest_hit_packet_with(avx, rays, t_max, out)
+fn closest_hits8_avx(
+    avx: Avx,
+    bvh: &Bvh,
+    rays: &Ray8,
+    t_max: f32,
+    active: u32,
+    out: &mut [Option<(Hit, u32)>; RAYS],
+) {
+    bvh.closest_hits8_with(avx, rays, t_max, active, out)
+}
+
+#[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
+fn occluded8_avx(avx: Avx, bvh: &Bvh, rays: &Ray8, t_max: &[f32; RAYS], active: u32) -> u32 {
+    bvh.occluded8_with(avx, rays, t_max, active)
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
@@ -107,6 +134,74 @@ impl Kernels for Avx {
         // SAFETY: as in `entries`.
         unsafe { pair_avx(first, second, ray, t_max) }
     }
+
+    #[inline(always)]
+    fn frustum(self, node: &Node8, frustum: &Frustum, t_limit: f32) -> ([f32; WIDTH], u32) {
+        // SAFETY: as in `entries`.
+        unsafe { frustum_avx(node, frustum, t_limit) }
+    }
+
+    #[inline(always)]
+    fn entered8(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        near: &[usize; 3],
+        limits: &[f32; RAYS],
+    ) -> u32 {
+        // SAFETY: as in `entries`.
+        unsafe { entered8_avx(node, lane, rays, near, limits) }
+    }
+}
+
+/// `Frustum::entries` in AVX registers.
+#[target_feature(enable = "avx")]
+#[inline]
+fn frustum_avx(node: &Node8, f: &Frustum, t_limit: f32) -> ([f32; WIDTH], u32) {
+    let (mul, sub, min, max) = (_mm256_mul_ps, _mm256_sub_ps, _mm256_min_ps, _mm256_max_ps);
+    let mut near = _mm256_setzero_ps();
+    let mut far = _mm256_set1_ps(t_limit);
+    for axis in 0..3 {
+        let [o_lo, o_hi] = f.origin[axis];
+        let (inv_lo, inv_hi) = (_mm256_set1_ps(f.inv[axis][0]), _mm256_set1_ps(f.inv[axis][1]));
+        let side = f.near[axis] & 1;
+        let (o_entry, o_exit) = if side == MAX { (o_lo, o_hi) } else { (o_hi, o_lo) };
+        let d_entry = sub(load8(&node.bounds[side][axis]), _mm256_set1_ps(o_entry));
+        let d_exit = sub(load8(&node.bounds[side ^ 1][axis]), _mm256_set1_ps(o_exit));
+        near = max(near, min(mul(d_entry, inv_lo), mul(d_entry, inv_hi)));
+        far = min(far, max(mul(d_exit, inv_lo), mul(d_exit, inv_hi)));
+    }
+    let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(near, mul(far, _mm256_set1_ps(FAR_SCALE)));
+    (store8(near), _mm256_movemask_ps(hit) as u32)
+}
+
+/// `PacketBoxes::entered` in AVX registers: per ray the operations of
+/// [`entries_avx`] on the same operands in the same order.
+#[target_feature(enable = "avx")]
+#[inline]
+fn entered8_avx(
+    node: &Node8,
+    lane: usize,
+    rays: &PacketBoxes,
+    near: &[usize; 3],
+    limits: &[f32; RAYS],
+) -> u32 {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    let limit = load8(limits);
+    let mut t_near = _mm256_setzero_ps();
+    let mut t_far = limit;
+    for (axis, &side) in near.iter().enumerate() {
+        let side = side & 1;
+        let lo = _mm256_set1_ps(node.bounds[side][axis][lane]);
+        let hi = _mm256_set1_ps(node.bounds[side ^ 1][axis][lane]);
+        let (o, inv) = (load8(&rays.origin[axis]), load8(&rays.inv[axis]));
+        t_near = _mm256_max_ps(mul(sub(lo, o), inv), t_near);
+        t_far = _mm256_min_ps(mul(sub(hi, o), inv), t_far);
+    }
+    let entered = _mm256_cmp_ps::<_CMP_LE_OQ>(t_near, mul(t_far, _mm256_set1_ps(FAR_SCALE)));
+    let before = _mm256_cmp_ps::<_CMP_LT_OQ>(t_near, limit);
+    _mm256_movemask_ps(_mm256_and_ps(entered, before)) as u32
 }
 
 /// Eight lanes as an AVX register.
@@ -417,6 +512,85 @@ mod tests {
             }
         }
         assert!(entered > 200, "only {entered} boxes entered: too weak a test");
+    }
+
+    /// The eight-ray slab test (AVX and portable) gives each ray of an octant the
+    /// single-ray test's answer for the box, and the frustum test (AVX and portable)
+    /// never culls a box one of them enters, with an entry bound no farther than
+    /// theirs.
+    #[test]
+    fn packet_box_tests_agree_with_the_single_ray_test() {
+        use crate::accel::traverse::octant::{Octants, PacketBoxes};
+        let Some(avx) = Avx::detect() else {
+            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            return;
+        };
+        let mut rnd = crate::accel::tests::uniform(0x2545_f491);
+        let mut node = crate::accel::traverse::wide::EMPTY;
+        let mut entered = 0;
+        for round in 0..800 {
+            for lane in 0..7 {
+                for axis in 0..3 {
+                    let (a, b) = (rnd() * 8.0 - 4.0, rnd() * 8.0 - 4.0);
+                    node.bounds[MIN][axis][lane] = a.min(b);
+                    node.bounds[MAX][axis][lane] = a.max(b);
+                }
+            }
+            let o = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 12.0;
+            let base = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5);
+            let rays: Vec<Ray> = (0..8)
+                .map(|k| {
+                    let mut d =
+                        base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * (round % 4) as f32 * 0.2;
+                    if (round + k) % 11 == 0 {
+                        d = Vec3::new(0.0, d.y, d.z);
+                    }
+                    Ray::new(
+                        o,
+                        if d.length() > 1e-3 {
+                            d
+                        } else {
+                            Vec3::new(0.0, 0.0, 1.0)
+                        },
+                    )
+                })
+                .collect();
+            let r8 = Ray8::new(&rays);
+            let boxes = PacketBoxes::new(&r8);
+            let limits = std::array::from_fn(|k| [f32::INFINITY, 6.0, 3.0][(k + round) % 3]);
+            let mut octants = Octants::new(&boxes, 0xff);
+            while let Some(octant) = octants.next(&boxes) {
+                let t_limit = (0..8)
+                    .filter(|k| octant.lanes >> k & 1 != 0)
+                    .fold(0.0f32, |t, k| t.max(limits[k]));
+                let frusta = octant.frustum.map(|f| {
+                    (
+                        Portable.frustum(&node, &f, t_limit),
+                        avx.frustum(&node, &f, t_limit),
+                    )
+                });
+                for lane in 0..8 {
+                    let got = Portable.entered8(&node, lane, &boxes, &octant.near, &limits) & octant.lanes;
+                    let got_avx = avx.entered8(&node, lane, &boxes, &octant.near, &limits) & octant.lanes;
+                    assert_eq!(got, got_avx, "round {round} lane {lane}");
+                    for k in (0..8).filter(|k| octant.lanes >> k & 1 != 0) {
+                        let one = RayBoxes::new(&rays[k]);
+                        let (t, mask) = Portable.entries(&node, &one, limits[k]);
+                        let want = mask >> lane & 1 != 0 && t[lane] < limits[k];
+                        assert_eq!(got >> k & 1 != 0, want, "round {round} lane {lane} ray {k}");
+                        if let (true, Some(((near, hit), (near_avx, hit_avx)))) = (want, frusta) {
+                            assert!(
+                                hit >> lane & 1 != 0 && hit_avx >> lane & 1 != 0,
+                                "round {round} lane {lane}"
+                            );
+                            assert!(near[lane] <= t[lane] && near_avx[lane] <= t[lane]);
+                        }
+                        entered += u32::from(want);
+                    }
+                }
+            }
+        }
+        assert!(entered > 1000, "only {entered} boxes entered: too weak a test");
     }
 
     /// The AVX triangle test of eight rays gives the portable one's results bit for bit.

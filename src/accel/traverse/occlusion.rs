@@ -100,7 +100,7 @@ impl Bvh {
     /// of the leaf lane (`first`, `count`, as in [`Bvh::leaf_closest`], and `KINDS`
     /// too) lying on `ray` (and `ray4`, the same ray broadcast) with `0 < t < t_max`.
     #[inline(always)]
-    fn leaf_any<S: Kernels, const KINDS: u32>(
+    pub(super) fn leaf_any<S: Kernels, const KINDS: u32>(
         &self,
         kernels: S,
         first: usize,
@@ -172,14 +172,31 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let ray4 = Ray4::new(ray);
+        self.walk_any::<S, KINDS>(kernels, 0, ray, &boxes, &ray4, t_max)
+    }
+
+    /// The tree walk of [`Bvh::occluder`] through the subtree of the wide node
+    /// `start` (the root: the whole tree); `boxes` and `ray4` are `ray` prepared for
+    /// the slab and leaf tests. The packets hand a subtree over to it once only a few
+    /// of their rays go on into it.
+    #[inline(always)]
+    pub(super) fn walk_any<S: Kernels, const KINDS: u32>(
+        &self,
+        kernels: S,
+        start: u32,
+        ray: &Ray,
+        boxes: &RayBoxes,
+        ray4: &Ray4,
+        t_max: f32,
+    ) -> Option<u32> {
         STACK.with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;
-            let mut index = 0u32;
+            let mut index = start;
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let mut mask = kernels.entered(node, &boxes, t_max);
+                let mut mask = kernels.entered(node, boxes, t_max);
                 let mut next = None;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
@@ -197,7 +214,7 @@ impl Bvh {
                         continue;
                     }
                     let first = node.child[lane] as usize;
-                    if let Some(blocker) = self.leaf_any::<S, KINDS>(kernels, first, count, ray, &ray4, t_max)
+                    if let Some(blocker) = self.leaf_any::<S, KINDS>(kernels, first, count, ray, ray4, t_max)
                     {
                         return Some(blocker);
                     }

@@ -1,193 +1,110 @@
-//! Packets of up to eight coherent rays (neighbouring camera rays) traced together.
+//! Packets of up to eight coherent rays (neighbouring camera rays) traced together:
+//! the closest-hit query of eight rays at once ([`Bvh::closest_hits8`]) and its
+//! wrappers over slices of rays.
 //!
-//! The packet shares one walk of the tree: one stack, one fetch of each node, one
-//! ordering decision per node. When its rays' directions agree in sign on every axis
-//! (neighbouring camera rays nearly always do), a node's eight boxes are tested once
-//! for the whole packet with interval arithmetic over the rays' origins and inverse
-//! directions (Wald, Boulos and Shirley 2007, "Ray tracing deformable scenes using
-//! dynamic bounding volume hierarchies"): a conservative test, since correctly
-//! rounded arithmetic is monotonic, so a box any ray enters is entered. Otherwise,
-//! and below boxes smaller than half the packet's footprint (where the rays go
-//! separate ways and the interval test would let every ray into every box any of them
-//! enters: 600 000 spheres, each a few pixels wide, ran at half the single-ray speed),
-//! each ray runs the slab test of [`Bvh::closest_hit`] and the walk follows the
-//! union. A subtree left to six rays or fewer is walked by each of them alone with
-//! [`Bvh::closest_hit`]'s traversal, cheaper per node (among 600 000 spheres the
-//! rays soon part: packets +16 %). A triangle leaf entered by four rays or more has
-//! each triangle tested against all eight rays at once (`leaf::ray8`), other leaves
-//! are tested ray by ray, always with the single-ray arithmetic, so every ray gets
-//! the hit `closest_hit` gives it, ties included (`Nearest`).
+//! The packet is split by direction octant (`octant`), and each octant's rays share
+//! one walk of the tree: at each node one conservative frustum test of all of them
+//! against the eight boxes, then one eight-ray slab test per box it lets through,
+//! which gives exactly the rays that enter the box (the single-ray test's arithmetic,
+//! lane by lane). Children are visited nearest first by the frustum's entry bound,
+//! and a child is skipped once every ray entering it has found something nearer. A
+//! subtree left to [`SOLO`] rays or fewer is walked by each of them alone with
+//! [`Bvh::closest_hit`]'s traversal, cheaper per node. A triangle leaf entered by
+//! [`TOGETHER`] rays or more has each triangle tested against all eight rays at once
+//! (`leaf::ray8`), other leaves are tested ray by ray, always with the single-ray
+//! arithmetic, so every ray gets the hit `closest_hit` gives it, ties included
+//! (`Nearest`).
 
 use std::cell::RefCell;
 
 use wide::f32x8;
 
 use super::nearest::Nearest;
-use super::single::sort_descending;
-use super::wide::{Kernels, Node8, Portable, RayBoxes, FAR_SCALE, MAX, MIN, WIDTH};
+use super::octant::{farthest, Octant, Octants, PacketBoxes, ALL};
+use super::wide::{Kernels, Portable, RayBoxes, WIDTH};
+use crate::accel::build::sah::MAX_DEPTH;
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
 use crate::accel::leaf::tri4::Ray4;
 use crate::geometry::Hit;
-use crate::math::{Ray, TINY_DIR};
+use crate::math::Ray;
 
 /// Rays per packet.
-pub const PACKET: usize = 8;
+pub const PACKET: usize = RAYS;
 
 /// A triangle leaf entered by at least this many rays of a packet is tested against
 /// all of them at once (eight rays, one triangle) rather than ray by ray.
-const TOGETHER: u32 = 4;
-
-/// Boxes at least this many times the packet's footprint get the interval test.
-const COHERENCE: f32 = 0.5;
+pub(super) const TOGETHER: u32 = 4;
 
 /// A subtree entered by at most this many of a packet's rays is walked by each of
 /// them alone, with the single-ray traversal (cheaper per node than the packet's).
-/// Measured, 8-ray packets on primary rays against none handed over: at most 1 ray
-/// +2 % on 600 000 spheres, 2 rays +5 %, 4 rays +11 %, 6 rays +16 % (mount_very_high
-/// +3 %, the SPD scenes within 1.5 %), 7 rays +20 % but teapot and gears −3 %.
-const SOLO: u32 = 6;
+/// Measured on 600 000 small spheres (`nffrt gen balls --size 6`, primary rays,
+/// packets against single rays in the same run, medians of three): none handed over
+/// 1.31x, at most 2 rays 1.45x, 4 rays 1.18x, 6 rays 1.35x.
+pub(super) const SOLO: u32 = 2;
 
-/// A stack entry: a node, the rays entering it, and the nearest of their entries.
+/// A node to visit: its index, the rays entering it (as bits), and a lower bound of
+/// their entries.
 #[derive(Clone, Copy)]
-struct Entry {
-    node: u32,
-    rays: u32,
-    near: f32,
-    /// Whether the node's boxes are tested with the interval test.
-    coherent: bool,
+pub(super) struct Entry {
+    pub node: u32,
+    pub rays: u32,
+    pub near: f32,
 }
 
-/// Per axis, the range of a packet's origins and inverse directions, all of one
-/// sign (`negative`).
-struct Interval {
-    origin: [[f32; 2]; 3],
-    inv: [[f32; 2]; 3],
-    negative: [bool; 3],
-    /// The spread of the origins and of the (unit) directions, largest over the axes:
-    /// at distance t the rays lie within about `spread[0] + t · spread[1]` of each
-    /// other.
-    spread: [f32; 2],
-}
+/// The most entries a packet walk stacks: fewer than [`WIDTH`] per level of the
+/// deepest tree the builder makes (a node stacks its children, the walk goes on
+/// with one of them and comes back to a level only once everything deeper is done).
+const STACK_ENTRIES: usize = WIDTH * (MAX_DEPTH as usize + 1);
 
-impl Interval {
-    /// The interval of `rays`, if their directions agree in sign on every axis.
-    #[inline(always)]
-    fn of(rays: &Ray8) -> Option<Interval> {
-        let mut iv = Interval {
-            origin: [[0.0; 2]; 3],
-            inv: [[0.0; 2]; 3],
-            negative: [false; 3],
-            spread: [0.0; 2],
-        };
-        let range = |v: &[f32; RAYS]| {
-            let lo = v.iter().fold(f32::INFINITY, |a, &b| a.min(b));
-            let hi = v.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
-            [lo, hi]
-        };
-        for axis in 0..3 {
-            let negative = f32x8::from(rays.inv[axis]).simd_lt(f32x8::ZERO).to_bitmask();
-            // Rays parallel to an axis take the ray-by-ray test (see `RayBoxes`).
-            let parallel = f32x8::from(rays.dir[axis])
-                .abs()
-                .simd_lt(f32x8::splat(TINY_DIR))
-                .to_bitmask();
-            if (negative != 0 && negative != (1 << RAYS) - 1) || parallel != 0 {
-                return None;
-            }
-            iv.negative[axis] = negative != 0;
-            iv.origin[axis] = range(&rays.origin[axis]);
-            iv.inv[axis] = range(&rays.inv[axis]);
-            // The directions' range from the inverses' (same sign, so 1/x is monotonic).
-            let [inv_lo, inv_hi] = iv.inv[axis];
-            iv.spread[0] = iv.spread[0].max(iv.origin[axis][1] - iv.origin[axis][0]);
-            iv.spread[1] = iv.spread[1].max((1.0 / inv_lo - 1.0 / inv_hi).abs());
-        }
-        Some(iv)
-    }
-
-    /// Whether a box of extent `size` entered at `t` is still large against the
-    /// packet's footprint there, so that one interval test beats one per ray (in
-    /// boxes much smaller than the footprint the rays go separate ways, and the
-    /// interval test would let every ray into every box any of them enters).
-    #[inline(always)]
-    fn worth_it(&self, size: f32, t: f32) -> bool {
-        size >= COHERENCE * (self.spread[0] + t * self.spread[1])
-    }
-
-    /// A lower bound of every ray's entry into each lane's box and the lanes some ray
-    /// may enter before `t_limit` (as bits).
-    ///
-    /// Per axis, with `t = (plane − o) · inv`: for positive directions the entry is
-    /// least for the greatest origin, the exit greatest for the least origin, and the
-    /// other way round for negative ones; the two inverse directions bound the rest.
-    #[inline(always)]
-    fn entries(&self, node: &Node8, t_limit: f32) -> ([f32; WIDTH], u32) {
-        let mut near = f32x8::ZERO;
-        let mut far = f32x8::splat(t_limit);
-        for axis in 0..3 {
-            let [o_lo, o_hi] = self.origin[axis];
-            let [inv_lo, inv_hi] = self.inv[axis].map(f32x8::splat);
-            let (entry, exit, o_entry, o_exit) = if self.negative[axis] {
-                (&node.bounds[MAX][axis], &node.bounds[MIN][axis], o_lo, o_hi)
-            } else {
-                (&node.bounds[MIN][axis], &node.bounds[MAX][axis], o_hi, o_lo)
-            };
-            let d_entry = f32x8::from(*entry) - o_entry;
-            let d_exit = f32x8::from(*exit) - o_exit;
-            near = near.fast_max((d_entry * inv_lo).fast_min(d_entry * inv_hi));
-            far = far.fast_min((d_exit * inv_lo).fast_max(d_exit * inv_hi));
-        }
-        // The exit stretched as `Node8::entries` stretches each ray's: after the
-        // same monotonic operations, so the test stays conservative. (The exit
-        // starts at `t_limit`, so no lane entered past it is kept either.)
-        let hit = near.simd_le(far * f32x8::splat(FAR_SCALE));
-        (near.to_array(), hit.to_bitmask())
-    }
-}
-
-/// The packet's rays prepared for the single-ray tests (`RayBoxes` for the slab test,
-/// `Ray4` for the leaf blocks), each only once some test needs it: camera packets
-/// often go through the tree on the interval test alone and test their leaves eight
-/// rays at a time, and preparing all eight rays up front cost tetra's packets 12 % of
-/// their instructions.
-struct SingleRays {
-    boxes: [RayBoxes; PACKET],
-    ray4: [Ray4; PACKET],
-    /// The rays prepared, as bits.
-    ready: u32,
-}
-
-impl SingleRays {
-    /// Ray 0 prepared (the others hold copies of it until they are); `rays8` holds
-    /// the rays' triangle test frames.
-    #[inline(always)]
-    fn new(rays: &[Ray], rays8: &Ray8) -> SingleRays {
-        SingleRays {
-            boxes: [RayBoxes::new(&rays[0]); PACKET],
-            ray4: [Ray4::with_sheared(&rays[0], rays8.sheared(0)); PACKET],
-            ready: 1,
-        }
-    }
-
-    /// Prepares the rays of `mask` (bits of indices into `rays`) not prepared yet.
-    #[inline(always)]
-    fn prepare(&mut self, rays: &[Ray], rays8: &Ray8, mask: u32) {
-        let mut todo = mask & !self.ready;
-        self.ready |= mask;
-        while todo != 0 {
-            let k = todo.trailing_zeros() as usize;
-            todo &= todo - 1;
-            self.boxes[k] = RayBoxes::new(&rays[k]);
-            self.ray4[k] = Ray4::with_sheared(&rays[k], rays8.sheared(k));
-        }
-    }
-}
+/// A packet walk's fixed-size stack.
+pub(super) struct PacketStack(pub [Entry; STACK_ENTRIES]);
 
 thread_local! {
-    /// Each thread's packet traversal stack, reused across queries.
-    static PACKET_STACK: RefCell<Vec<Entry>> = RefCell::new(Vec::with_capacity(256));
+    /// Each thread's packet stack, reused by its queries (never grown: its size
+    /// bounds every tree's depth).
+    pub(super) static PACKET_STACK: RefCell<PacketStack> = const {
+        RefCell::new(PacketStack([Entry { node: 0, rays: 0, near: 0.0 }; STACK_ENTRIES]))
+    };
+}
+
+/// Ray `k` of `rays` prepared for the single-ray leaf test (made when needed rather
+/// than for every ray up front: camera packets often go through the tree and their
+/// triangle leaves eight rays at a time).
+#[inline(always)]
+pub(super) fn single_ray(rays: &Ray8, k: usize) -> (Ray, Ray4) {
+    let ray = rays.ray(k);
+    let ray4 = Ray4::with_sheared(&ray, rays.sheared(k));
+    (ray, ray4)
+}
+
+/// Insertion sort of stack entries by decreasing entry (at most [`WIDTH`] of them),
+/// so that the nearest is popped first.
+#[inline(always)]
+pub(super) fn sort_descending(v: &mut [Entry]) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].near < v[j].near {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// The rays (as bits) still looking past `t`: those with `t < limits[k]`.
+#[inline(always)]
+fn looking_past(t: f32, limits: &[f32; RAYS]) -> u32 {
+    f32x8::splat(t).simd_lt(f32x8::from(*limits)).to_bitmask()
+}
+
+/// A closest-hit packet query under way.
+struct Closest<'a> {
+    rays: &'a Ray8,
+    boxes: PacketBoxes,
+    nearest: [Nearest; PACKET],
+    /// Each ray's `nearest[k].limit`, side by side for the vector tests.
+    limits: [f32; PACKET],
 }
 
 impl Bvh {
@@ -214,13 +131,12 @@ impl Bvh {
     pub fn closest_hit_packet(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return avx.closest_hit_packet(self, rays, t_max, out);
+            return self.closest_hit_packet_by(|r, a, o| avx.closest_hits8(self, r, t_max, a, o), rays, out);
         }
         self.closest_hit_packet_with(Portable, rays, t_max, out)
     }
 
-    /// [`Bvh::closest_hit_packet`] with the slab test `kernels` (see `closest_hit_with`).
-    #[inline(always)]
+    /// [`Bvh::closest_hit_packet`] with the kernels `kernels` (see `closest_hit_with`).
     pub(in crate::accel) fn closest_hit_packet_with<S: Kernels>(
         &self,
         kernels: S,
@@ -228,200 +144,247 @@ impl Bvh {
         t_max: f32,
         out: &mut [Option<(Hit, u32)>],
     ) {
+        self.closest_hit_packet_by(
+            |r, a, o| self.closest_hits8_with(kernels, r, t_max, a, o),
+            rays,
+            out,
+        )
+    }
+
+    /// [`Bvh::closest_hit_packet`] through `hits8`, a closest-hit query of a
+    /// [`Ray8`] and the mask of its rays.
+    #[inline(always)]
+    fn closest_hit_packet_by(
+        &self,
+        hits8: impl FnOnce(&Ray8, u32, &mut [Option<(Hit, u32)>; PACKET]),
+        rays: &[Ray],
+        out: &mut [Option<(Hit, u32)>],
+    ) {
         let n = rays.len();
         assert!(n <= PACKET, "at most {PACKET} rays per packet");
         assert_eq!(out.len(), n, "one result per ray");
-        let mut nearest = [Nearest::new(t_max); PACKET];
-        let unbounded = &self.primitives[self.bounded..];
-        // (Tested for emptiness first: see `Bvh::unbounded_closest`.)
-        for (k, ray) in rays.iter().enumerate().filter(|_| !unbounded.is_empty()) {
-            for (i, p) in unbounded.iter().enumerate() {
-                if let Some(h) = p.intersect(ray, nearest[k].limit, &self.data) {
-                    nearest[k].offer(h, (self.bounded + i) as u32);
+        if n == 0 {
+            return;
+        }
+        let mut all = [None; PACKET];
+        hits8(&Ray8::new(rays), (1 << n) - 1, &mut all);
+        out.copy_from_slice(&all[..n]);
+    }
+
+    /// [`Bvh::closest_hit`] for the rays of `rays` whose bits are set in `active`:
+    /// `out[k]` receives the nearest hit of ray `k` with `0 < t < t_max`, the very
+    /// hit `closest_hit` gives it (ties included); `None` for the other lanes.
+    /// Fastest on coherent rays (neighbouring camera rays).
+    pub fn closest_hits8(
+        &self,
+        rays: &Ray8,
+        t_max: f32,
+        active: u32,
+        out: &mut [Option<(Hit, u32)>; PACKET],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx) = self.avx {
+            return avx.closest_hits8(self, rays, t_max, active, out);
+        }
+        self.closest_hits8_with(Portable, rays, t_max, active, out)
+    }
+
+    /// [`Bvh::closest_hits8`] with the kernels `kernels` (see `closest_hit_with`).
+    #[inline(always)]
+    pub(in crate::accel) fn closest_hits8_with<S: Kernels>(
+        &self,
+        kernels: S,
+        rays: &Ray8,
+        t_max: f32,
+        active: u32,
+        out: &mut [Option<(Hit, u32)>; PACKET],
+    ) {
+        *out = [None; PACKET];
+        let active = active & ALL;
+        if active == 0 {
+            return;
+        }
+        let mut q = Closest {
+            rays,
+            boxes: PacketBoxes::new(rays),
+            nearest: [Nearest::new(t_max); PACKET],
+            limits: [t_max; PACKET],
+        };
+        self.unbounded_closest8(&mut q, active);
+        if !self.wide.is_empty() {
+            let mut octants = Octants::new(&q.boxes, active);
+            PACKET_STACK.with_borrow_mut(|stack| {
+                while let Some(octant) = octants.next(&q.boxes) {
+                    self.walk_octant_closest(kernels, &octant, &mut q, &mut stack.0);
                 }
+            });
+        }
+        for (k, (out, nearest)) in out.iter_mut().zip(&q.nearest).enumerate() {
+            if active >> k & 1 != 0 {
+                *out = nearest.best;
             }
-        }
-        if !self.wide.is_empty() && n > 0 {
-            self.walk_packet(kernels, rays, &mut nearest);
-        }
-        for (o, near) in out.iter_mut().zip(&nearest) {
-            *o = near.best;
         }
     }
 
-    /// The tree walk of [`Bvh::closest_hit_packet`] for `rays` (one to [`PACKET`]),
-    /// improving `nearest[k]` for ray `k`.
+    /// The unbounded primitives (planes) against the rays `active` of `q`.
     #[inline(always)]
-    fn walk_packet<S: Kernels>(&self, kernels: S, rays: &[Ray], nearest: &mut [Nearest; PACKET]) {
-        let n = rays.len();
-        let rays8 = Ray8::new(rays);
-        let interval = Interval::of(&rays8);
-        let mut single = SingleRays::new(rays, &rays8);
-        // Each ray's `nearest[k].limit`, side by side for the vector tests.
-        let mut limits = nearest.map(|n| n.limit);
-        PACKET_STACK.with_borrow_mut(|stack| {
-            stack.clear();
-            let mut index = 0u32;
-            let mut active = (1u32 << n) - 1;
-            let mut coherent = interval.is_some();
+    fn unbounded_closest8(&self, q: &mut Closest, active: u32) {
+        let unbounded = &self.primitives[self.bounded..];
+        // (Tested for emptiness first: see `Bvh::unbounded_closest`.)
+        if unbounded.is_empty() {
+            return;
+        }
+        let mut each = active;
+        while each != 0 {
+            let k = each.trailing_zeros() as usize;
+            each &= each - 1;
+            let ray = q.rays.ray(k);
+            for (i, p) in unbounded.iter().enumerate() {
+                if let Some(h) = p.intersect(&ray, q.nearest[k].limit, &self.data) {
+                    q.nearest[k].offer(h, (self.bounded + i) as u32);
+                }
+            }
+            q.limits[k] = q.nearest[k].limit;
+        }
+    }
+
+    /// The tree walk of the rays of `octant`, improving `q`.
+    #[inline(always)]
+    fn walk_octant_closest<S: Kernels>(
+        &self,
+        kernels: S,
+        octant: &Octant,
+        q: &mut Closest,
+        stack: &mut [Entry],
+    ) {
+        let mut sp = 0usize;
+        let mut index = 0u32;
+        let mut active = octant.lanes;
+        loop {
+            let node = &self.wide[index as usize];
+            count!(NODES, 1);
+            let (near, mut lanes) = match &octant.frustum {
+                Some(f) => kernels.frustum(node, f, farthest(&q.limits, active)),
+                None => ([0.0; WIDTH], ALL),
+            };
+            let base = sp;
+            while lanes != 0 {
+                let lane = lanes.trailing_zeros() as usize;
+                lanes &= lanes - 1;
+                let entering = kernels.entered8(node, lane, &q.boxes, &octant.near, &q.limits) & active;
+                if entering == 0 {
+                    continue;
+                }
+                let count = node.count[lane] as usize;
+                if count == 0 {
+                    stack[sp] = Entry {
+                        node: node.child[lane],
+                        rays: entering,
+                        near: near[lane],
+                    };
+                    sp += 1;
+                } else {
+                    self.leaf_closest8(kernels, node.child[lane] as usize, count, entering, q);
+                }
+            }
+            sort_descending(&mut stack[base..sp]);
+            // The nearest entry next, while one of its rays has found nothing nearer
+            // than the entry's bound; an entry left to [`SOLO`] rays or fewer is
+            // walked by each of them alone.
             loop {
-                let node = &self.wide[index as usize];
-                // The rays entering each child, and the nearest of their entries.
-                let mut lane_rays = [0u32; WIDTH];
-                let mut lane_near = [f32::INFINITY; WIDTH];
-                if let Some(iv) = interval.as_ref().filter(|_| coherent) {
-                    let t_limit = (0..PACKET)
-                        .filter(|k| active & (1 << k) != 0)
-                        .fold(0.0f32, |t, k| t.max(limits[k]));
-                    let (near, mut mask) = iv.entries(node, t_limit);
-                    // (Read only in the lanes entered.)
-                    lane_near = near;
-                    while mask != 0 {
-                        let lane = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        lane_rays[lane] = active;
-                    }
+                if sp == 0 {
+                    return;
                 }
-                // (`coherent` holds only with an interval.)
-                let mut left = if coherent { 0 } else { active };
-                single.prepare(rays, &rays8, left);
-                let boxes = &single.boxes;
-                while left != 0 {
-                    let k = left.trailing_zeros() as usize;
-                    left &= left - 1;
-                    let limit = limits[k];
-                    let (t, mut mask) = kernels.entries(node, &boxes[k], limit);
-                    while mask != 0 {
-                        let lane = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        lane_rays[lane] |= 1 << k;
-                        lane_near[lane] = lane_near[lane].min(t[lane]);
-                    }
+                sp -= 1;
+                let e = stack[sp];
+                let entering = e.rays & looking_past(e.near, &q.limits);
+                if entering == 0 {
+                    continue;
                 }
-                let mut inner = [(0u32, 0.0f32); WIDTH];
-                let mut inner_rays = [0u32; WIDTH];
-                let mut inner_coherent = [false; WIDTH];
-                let mut n_inner = 0;
-                for lane in 0..WIDTH {
-                    let entering = lane_rays[lane];
-                    if entering == 0 {
-                        continue;
+                if entering.count_ones() <= SOLO {
+                    self.solo_closest(kernels, e.node, entering, q);
+                    continue;
+                }
+                index = e.node;
+                active = entering;
+                break;
+            }
+        }
+    }
+
+    /// The subtree of wide node `start` walked by each of the rays `lanes` alone.
+    #[inline(always)]
+    fn solo_closest<S: Kernels>(&self, kernels: S, start: u32, lanes: u32, q: &mut Closest) {
+        let mut each = lanes;
+        while each != 0 {
+            let k = each.trailing_zeros() as usize;
+            each &= each - 1;
+            let (ray, ray4) = single_ray(q.rays, k);
+            self.walk_closest::<S, { leaf_kinds::ALL }, ()>(
+                kernels,
+                start,
+                &ray,
+                &RayBoxes::new(&ray),
+                &ray4,
+                &mut q.nearest[k],
+                &mut (),
+            );
+            q.limits[k] = q.nearest[k].limit;
+        }
+    }
+
+    /// The leaf lane (`first`, `count`, as in `Bvh::leaf_closest`) against the rays
+    /// `entering` of `q`.
+    #[inline(always)]
+    fn leaf_closest8<S: Kernels>(
+        &self,
+        kernels: S,
+        first: usize,
+        count: usize,
+        entering: u32,
+        q: &mut Closest,
+    ) {
+        if count & TRI4_LEAF != 0 && entering.count_ones() >= TOGETHER {
+            // Each triangle against all the packet's rays at once.
+            for block in &self.tri4[first..first + (count & !TRI4_LEAF)] {
+                for (j, &prim) in block.prim.iter().enumerate() {
+                    if prim == u32::MAX {
+                        break;
                     }
-                    let count = node.count[lane] as usize;
-                    if count == 0 {
-                        // The child's index stays with its rays through the sort.
-                        inner[n_inner] = (lane as u32, lane_near[lane]);
-                        inner_rays[lane] = entering;
-                        inner_coherent[lane] = match &interval {
-                            Some(iv) if coherent => {
-                                let size = (0..3)
-                                    .map(|a| node.bounds[MAX][a][lane] - node.bounds[MIN][a][lane])
-                                    .fold(0.0f32, f32::max);
-                                iv.worth_it(size, lane_near[lane])
-                            }
-                            _ => false,
-                        };
-                        n_inner += 1;
-                        continue;
-                    }
-                    let first = node.child[lane] as usize;
-                    if count & TRI4_LEAF != 0 && entering.count_ones() >= TOGETHER {
-                        // Each triangle against all the packet's rays at once.
-                        for block in &self.tri4[first..first + (count & !TRI4_LEAF)] {
-                            for (j, &prim) in block.prim.iter().enumerate() {
-                                if prim == u32::MAX {
-                                    break;
-                                }
-                                let (t, u, v, hit) = kernels.hits8(block, j, &rays8, &limits);
-                                let mut each = hit & entering;
-                                while each != 0 {
-                                    let k = each.trailing_zeros() as usize;
-                                    each &= each - 1;
-                                    nearest[k].offer(
-                                        Hit {
-                                            t: t[k],
-                                            u: u[k],
-                                            v: v[k],
-                                        },
-                                        prim,
-                                    );
-                                    limits[k] = nearest[k].limit;
-                                }
-                            }
-                        }
-                        continue;
-                    }
-                    single.prepare(rays, &rays8, entering);
-                    let mut each = entering;
+                    let (t, u, v, hit) = kernels.hits8(block, j, q.rays, &q.limits);
+                    let mut each = hit & entering;
                     while each != 0 {
                         let k = each.trailing_zeros() as usize;
                         each &= each - 1;
-                        self.leaf_closest::<S, { leaf_kinds::ALL }, ()>(
-                            kernels,
-                            first,
-                            count,
-                            &rays[k],
-                            &single.ray4[k],
-                            &mut nearest[k],
-                            &mut (),
+                        q.nearest[k].offer(
+                            Hit {
+                                t: t[k],
+                                u: u[k],
+                                v: v[k],
+                            },
+                            prim,
                         );
-                        limits[k] = nearest[k].limit;
+                        q.limits[k] = q.nearest[k].limit;
                     }
-                }
-                // Nearest child next, the others stacked far to near.
-                let inner = &mut inner[..n_inner];
-                sort_descending(inner);
-                let mut next = None;
-                for (i, &(lane, near)) in inner.iter().enumerate() {
-                    let entry = Entry {
-                        node: node.child[lane as usize],
-                        rays: inner_rays[lane as usize],
-                        near,
-                        coherent: inner_coherent[lane as usize],
-                    };
-                    if i + 1 == n_inner {
-                        next = Some(entry);
-                    } else {
-                        stack.push(entry);
-                    }
-                }
-                // The nearest child next, else the stack's top, while one of the
-                // entry's rays has found nothing nearer than its nearest entry; an
-                // entry left to [`SOLO`] rays or fewer is walked by each of them alone.
-                let mut candidate = next;
-                loop {
-                    let Some(e) = candidate.take().or_else(|| stack.pop()) else {
-                        return;
-                    };
-                    let entering = e.rays & f32x8::splat(e.near).simd_lt(f32x8::from(limits)).to_bitmask();
-                    if entering == 0 {
-                        continue;
-                    }
-                    if entering.count_ones() <= SOLO {
-                        single.prepare(rays, &rays8, entering);
-                        let mut each = entering;
-                        while each != 0 {
-                            let k = each.trailing_zeros() as usize;
-                            each &= each - 1;
-                            self.walk_closest::<S, { leaf_kinds::ALL }, ()>(
-                                kernels,
-                                e.node,
-                                &rays[k],
-                                &single.boxes[k],
-                                &single.ray4[k],
-                                &mut nearest[k],
-                                &mut (),
-                            );
-                            limits[k] = nearest[k].limit;
-                        }
-                        continue;
-                    }
-                    index = e.node;
-                    active = entering;
-                    coherent = e.coherent;
-                    break;
                 }
             }
-        });
+            return;
+        }
+        let mut each = entering;
+        while each != 0 {
+            let k = each.trailing_zeros() as usize;
+            each &= each - 1;
+            let (ray, ray4) = single_ray(q.rays, k);
+            self.leaf_closest::<S, { leaf_kinds::ALL }, ()>(
+                kernels,
+                first,
+                count,
+                &ray,
+                &ray4,
+                &mut q.nearest[k],
+                &mut (),
+            );
+            q.limits[k] = q.nearest[k].limit;
+        }
     }
 }

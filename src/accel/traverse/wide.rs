@@ -10,6 +10,7 @@
 
 use wide::{f32x8, u32x8};
 
+use super::octant::{Frustum, PacketBoxes};
 use crate::accel::leaf::ray8::{pair_hits, Hits8, Ray8, RAYS};
 use crate::accel::leaf::tri4::{Ray4, Tri4};
 use crate::math::{Aabb, Ray, Vec3, TINY_DIR};
@@ -184,6 +185,17 @@ pub trait Kernels: Copy {
     fn hits8(self, block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hits8;
     /// As `ray8::pair_hits` (two blocks of triangles against one ray).
     fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8;
+    /// As [`Frustum::entries`] (an octant of a packet against eight boxes).
+    fn frustum(self, node: &Node8, frustum: &Frustum, t_limit: f32) -> ([f32; WIDTH], u32);
+    /// As [`PacketBoxes::entered`] (eight rays against one box).
+    fn entered8(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        near: &[usize; 3],
+        limits: &[f32; RAYS],
+    ) -> u32;
 }
 
 /// The kernels as the `wide` crate compiles them for the build target.
@@ -209,5 +221,22 @@ impl Kernels for Portable {
     #[inline(always)]
     fn pair(self, first: &Tri4, second: &Tri4, ray: &Ray4, t_max: f32) -> Hits8 {
         pair_hits(first, second, ray, t_max)
+    }
+
+    #[inline(always)]
+    fn frustum(self, node: &Node8, frustum: &Frustum, t_limit: f32) -> ([f32; WIDTH], u32) {
+        frustum.entries(node, t_limit)
+    }
+
+    #[inline(always)]
+    fn entered8(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        near: &[usize; 3],
+        limits: &[f32; RAYS],
+    ) -> u32 {
+        rays.entered(node, lane, near, limits)
     }
 }
