@@ -121,11 +121,11 @@ pub fn partition(
     debug_assert_eq!(scratch.len(), n);
     let chunk = chunk_len(n);
     let goes_left = |it: &Item| (binner.bins(it.centroid())[axis] as usize) < split_bin;
-    // before[q]: items going left among items[..q], first counted within each chunk.
-    let mut before = vec![0u32; n + 1];
+    // Items going left before each one in its chunk.
+    let mut local = vec![0u32; n];
     let sides: Vec<Side> = items
         .par_chunks(chunk)
-        .zip(before[..n].par_chunks_mut(chunk))
+        .zip(local.par_chunks_mut(chunk))
         .map(|(its, before)| {
             let mut s = Side {
                 left: 0,
@@ -160,11 +160,11 @@ pub fn partition(
         rb.add_box(&s.rb);
         rc = rc.then(&s.rc);
     }
-    before[n] = left as u32;
-    before[..n]
-        .par_chunks_mut(chunk)
-        .zip(&offsets)
-        .for_each(|(b, &offset)| b.iter_mut().for_each(|x| *x += offset));
+    // Items going left among items[..q].
+    let before = |q: usize| match q {
+        _ if q == n => left as u32,
+        _ => local[q] + offsets[q / chunk],
+    };
     // The items going left keep their order: each chunk's go to one run.
     let (to_left, to_right) = scratch.split_at_mut(left);
     let mut runs = Vec::with_capacity(sides.len());
@@ -174,18 +174,25 @@ pub fn partition(
         runs.push(run);
         rest = tail;
     }
-    items.par_chunks(chunk).zip(runs).for_each(|(its, run)| {
-        let mut out = run.iter_mut();
-        for it in its.iter().filter(|it| goes_left(it)) {
-            *out.next().expect("one place per item going left") = *it;
-        }
-    });
+    // The two sides at once: one synchronisation fewer.
     let items_ref = &*items;
-    to_right.par_chunks_mut(chunk).enumerate().for_each(|(k, out)| {
-        for (i, slot) in out.iter_mut().enumerate() {
-            *slot = items_ref[right_source(&before, left + k * chunk + i)];
-        }
-    });
+    rayon::join(
+        || {
+            items_ref.par_chunks(chunk).zip(runs).for_each(|(its, run)| {
+                let mut out = run.iter_mut();
+                for it in its.iter().filter(|it| goes_left(it)) {
+                    *out.next().expect("one place per item going left") = *it;
+                }
+            })
+        },
+        || {
+            to_right.par_chunks_mut(chunk).enumerate().for_each(|(k, out)| {
+                for (i, slot) in out.iter_mut().enumerate() {
+                    *slot = items_ref[right_source(before, left + k * chunk + i)];
+                }
+            })
+        },
+    );
     items
         .par_chunks_mut(chunk)
         .zip(scratch.par_chunks(chunk))
@@ -194,13 +201,17 @@ pub fn partition(
 }
 
 /// The input index of the item the serial partition leaves at place `p` (at or
-/// after the last item going left), `before` counting the items going left before
-/// each index. Place `p` is written by the serial loop only at step `p`: it keeps its
-/// item if that goes right, else receives the item then at place `before[p]`, which
-/// was last written at step `before[p]` — by the same rule.
-fn right_source(before: &[u32], mut p: usize) -> usize {
-    while before[p + 1] > before[p] {
-        p = before[p] as usize;
+/// after the last item going left), `before(q)` counting the items going left among
+/// the first `q`. Place `p` is written by the serial loop only at step `p`: it keeps
+/// its item if that goes right, else receives the item then at place `before(p)`,
+/// which was last written at step `before(p)` — by the same rule.
+#[inline]
+fn right_source(before: impl Fn(usize) -> u32, mut p: usize) -> usize {
+    loop {
+        let b = before(p);
+        if before(p + 1) == b {
+            return p;
+        }
+        p = b as usize;
     }
-    p
 }

@@ -34,9 +34,9 @@ pub const MAX_LEAF: usize = 8;
 const MAX_SAH_DEPTH: u32 = 32;
 /// Subtrees over this many primitives are split between threads.
 pub const PARALLEL_ITEMS: usize = 4096;
-/// Nodes over this many times [`PARALLEL_ITEMS`] primitives bin and partition them on
-/// several threads: the top levels, where `rayon::join` has not yet given every
-/// thread a subtree of its own.
+/// Nodes over this many times [`PARALLEL_ITEMS`] primitives, and over the share of
+/// one thread of all of them, bin and partition them on several threads: the top
+/// levels, where `rayon::join` has not yet given every thread a subtree of its own.
 pub const PASS_PER_JOIN: usize = 16;
 
 /// Output of the builder: nodes (root at 0) and the primitive order of the leaves.
@@ -142,11 +142,10 @@ pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Bui
     nodes.push(BvhNode::default());
     let mut depth = 1;
     let parallel_items = parallel_items.max(2 * MAX_LEAF);
-    // On one thread the chunked passes would only add work.
-    let pass_items = match rayon::current_num_threads() {
-        1 => usize::MAX,
-        _ => parallel_items.saturating_mul(PASS_PER_JOIN),
-    };
+    // Below one thread's share the subtrees already keep every thread busy, and the
+    // chunked passes would only add work (on one thread, everywhere).
+    let share = items.len() / rayon::current_num_threads() + 1;
+    let pass_items = parallel_items.saturating_mul(PASS_PER_JOIN).max(share);
     if !items.is_empty() {
         let (b, c) = if items.len() >= pass_items {
             parallel::bounds_of(&items)
