@@ -198,6 +198,20 @@ impl Bins {
         }
     }
 
+    /// Adds the items binned in `other` (with the same binner): for bins filled
+    /// from consecutive runs of items, in the runs' order, the bins of all of them.
+    pub fn merge(&mut self, other: &Bins) {
+        for axis in 0..3 {
+            for bin in 0..BINS {
+                if other.count[axis][bin] > 0 {
+                    self.bounds[axis][bin].add_box(&other.bounds[axis][bin]);
+                    self.count[axis][bin] += other.count[axis][bin];
+                    self.packs[axis][bin].add(other.packs[axis][bin]);
+                }
+            }
+        }
+    }
+
     /// Empties bin `bin` of `axis` again.
     #[inline]
     pub fn clear(&mut self, axis: usize, bin: usize) {

@@ -7,11 +7,15 @@
 //! over [`PARALLEL_ITEMS`] items are built on two threads by `rayon::join`; the right
 //! one goes into a vector of its own and is spliced in after the left one, so the
 //! nodes are numbered exactly as the sequential depth-first build numbers them and
-//! the result does not depend on the thread count.
+//! the result does not depend on the thread count. Nodes over [`PASS_PER_JOIN`]
+//! times that many items make their two passes in parallel chunks (`parallel`), with
+//! the serial passes' results.
 
 use super::binning::{Binner, Bins, Box4, Item, BINS};
 use super::node::BvhNode;
+use super::parallel;
 use crate::math::Aabb;
+use rayon::prelude::*;
 
 /// Relative cost of one traversal step against one primitive test (or one test of a
 /// block of packable primitives).
@@ -34,6 +38,15 @@ const MAX_SAH_DEPTH: u32 = 32;
 pub const MAX_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
 /// Subtrees over this many primitives are split between threads.
 pub const PARALLEL_ITEMS: usize = 4096;
+/// Nodes over this many times [`PARALLEL_ITEMS`] primitives, and over the share of
+/// one thread of all of them, bin and partition them on several threads: the top
+/// levels, where `rayon::join` has not yet given every thread a subtree of its own.
+pub const PASS_PER_JOIN: usize = 16;
+/// The chunked partition (which gathers into a scratch buffer, then copies back) runs
+/// only with at least this many threads: on two, the root's took longer than the
+/// serial one (mount size 9: build 205 → 236 ms, medians of 3), while the chunked
+/// binning alone does not add work.
+pub const PARTITION_THREADS: usize = 4;
 
 /// Output of the builder: nodes (root at 0) and the primitive order of the leaves.
 pub struct Built {
@@ -123,11 +136,13 @@ pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
 }
 
 /// [`build`], handing subtrees over `parallel_items` primitives to `rayon::join`
-/// (`usize::MAX`: all on the calling thread). The result is the same for any value.
+/// and binning and partitioning nodes over [`PASS_PER_JOIN`] times that many in
+/// parallel chunks (`usize::MAX`: all on the calling thread). The result is the same
+/// for any value, and any number of threads.
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
     assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
     let mut items: Vec<Item> = bounds
-        .iter()
+        .par_iter()
         .zip(packs)
         .enumerate()
         .map(|(i, (b, &pack))| Item::new(b, i as u32, pack))
@@ -135,16 +150,34 @@ pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Bui
     let mut nodes = Vec::with_capacity((2 * items.len()).max(1));
     nodes.push(BvhNode::default());
     let mut depth = 1;
+    let parallel_items = parallel_items.max(2 * MAX_LEAF);
+    // Below one thread's share the subtrees already keep every thread busy, and the
+    // chunked passes would only add work (on one thread, everywhere).
+    let share = items.len() / rayon::current_num_threads() + 1;
+    let pass_items = parallel_items.saturating_mul(PASS_PER_JOIN).max(share);
     if !items.is_empty() {
-        let (b, c) = Box4::of(&items);
+        let (b, c) = if items.len() >= pass_items {
+            parallel::bounds_of(&items)
+        } else {
+            Box4::of(&items)
+        };
+        // Where the chunked partitions gather their results.
+        let threads = rayon::current_num_threads();
+        let mut scratch = if items.len() >= pass_items && threads >= PARTITION_THREADS {
+            items.par_iter().copied().collect()
+        } else {
+            Vec::new()
+        };
         let mut out = Out {
             nodes: &mut nodes,
             depth: &mut depth,
             bins: &mut Bins::new(),
-            parallel_items: parallel_items.max(2 * MAX_LEAF),
+            parallel_items,
+            pass_items,
         };
         out.subdivide(
             &mut items,
+            &mut scratch,
             Span {
                 offset: 0,
                 node: 0,
@@ -168,17 +201,22 @@ struct Span {
     centroids: Box4,
 }
 
-/// Where one thread writes: the node vector, its deepest leaf, its scratch bins.
+/// Where one thread writes: the node vector, its deepest leaf, its scratch bins;
+/// and the node sizes from which subtrees go to `rayon::join` and from which passes
+/// run in parallel chunks.
 struct Out<'a> {
     nodes: &'a mut Vec<BvhNode>,
     depth: &'a mut u32,
     bins: &'a mut Bins,
     parallel_items: usize,
+    pass_items: usize,
 }
 
 impl Out<'_> {
-    /// Fills `nodes[s.node]` for `items`, and its subtree.
-    fn subdivide(&mut self, items: &mut [Item], s: Span) {
+    /// Fills `nodes[s.node]` for `items`, and its subtree. `scratch` is as long as
+    /// `items` where the chunked partition may run (see [`PARTITION_THREADS`]), else
+    /// empty.
+    fn subdivide(&mut self, items: &mut [Item], scratch: &mut [Item], s: Span) {
         *self.depth = (*self.depth).max(s.depth);
         let b = s.bounds.aabb();
         let node = &mut self.nodes[s.node];
@@ -201,13 +239,17 @@ impl Out<'_> {
         } else if s.depth >= MAX_SAH_DEPTH {
             (median_split(items, extent.dominant_axis()), None)
         } else {
-            match self.sah_split(items, &s) {
+            match self.sah_split(items, scratch, &s) {
                 Split::Plane(mid, l, r) => (mid, Some((l, r))),
                 Split::Leaf if n <= MAX_LEAF => return,
                 Split::Leaf => (median_split(items, extent.dominant_axis()), None),
             }
         };
         let (l, r) = items.split_at_mut(mid);
+        let (l_scratch, r_scratch) = match scratch.is_empty() {
+            true => (&mut [][..], &mut [][..]),
+            false => scratch.split_at_mut(mid),
+        };
         let ((lb, lc), (rb, rc)) = children.unwrap_or_else(|| (Box4::of(l), Box4::of(r)));
         let left = self.nodes.len();
         self.nodes.push(BvhNode::default());
@@ -224,7 +266,7 @@ impl Out<'_> {
             centroids: lc,
         };
         if n <= self.parallel_items {
-            self.subdivide(l, ls);
+            self.subdivide(l, l_scratch, ls);
             let rs = Span {
                 offset: ro,
                 node: left + 1,
@@ -232,13 +274,13 @@ impl Out<'_> {
                 bounds: rb,
                 centroids: rc,
             };
-            self.subdivide(r, rs);
+            self.subdivide(r, r_scratch, rs);
             return;
         }
         // The right subtree into its own vector (its root at 0), then spliced in.
-        let parallel_items = self.parallel_items;
+        let (parallel_items, pass_items) = (self.parallel_items, self.pass_items);
         let (_, (sub, sub_depth)) = rayon::join(
-            || self.subdivide(l, ls),
+            || self.subdivide(l, l_scratch, ls),
             || {
                 let (mut nodes, mut deepest) = (Vec::with_capacity(2 * r.len()), 0);
                 nodes.push(BvhNode::default());
@@ -247,9 +289,11 @@ impl Out<'_> {
                     depth: &mut deepest,
                     bins: &mut Bins::new(),
                     parallel_items,
+                    pass_items,
                 };
                 out.subdivide(
                     r,
+                    r_scratch,
                     Span {
                         offset: ro,
                         node: 0,
@@ -277,14 +321,19 @@ impl Out<'_> {
     /// Finds the cheapest binned SAH split over all three axes and partitions `items`
     /// by it, returning the children's bounds and centroid bounds too. `Leaf` when
     /// keeping a leaf is cheaper or no split separates anything.
-    fn sah_split(&mut self, items: &mut [Item], s: &Span) -> Split {
+    fn sah_split(&mut self, items: &mut [Item], scratch: &mut [Item], s: &Span) -> Split {
         let n = items.len();
         let binner = Binner::new(&s.centroids);
         if n == 2 {
             return split_pair(items, s, &binner);
         }
         let bins = &mut *self.bins;
-        bins.fill(items, &binner);
+        let chunked = n >= self.pass_items;
+        if chunked {
+            parallel::fill_bins(bins, items, &binner);
+        } else {
+            bins.fill(items, &binner);
+        }
         let cb = s.centroids.aabb();
         let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins left of the plane)
         for axis in 0..3 {
@@ -316,7 +365,11 @@ impl Out<'_> {
         if n <= MAX_LEAF && split_cost >= leaf_cost_of(items) {
             return Split::Leaf;
         }
-        let (mid, l, r) = partition(items, &binner, axis, split_bin);
+        let (mid, l, r) = if chunked && scratch.len() == n {
+            parallel::partition(items, scratch, &binner, axis, split_bin)
+        } else {
+            partition(items, &binner, axis, split_bin)
+        };
         if mid > 0 && mid < n {
             Split::Plane(mid, l, r)
         } else {

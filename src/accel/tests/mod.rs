@@ -256,3 +256,94 @@ fn parallel_build_equals_sequential_build_exactly() {
         }
     }
 }
+
+/// Everything the queries read of `bvh`, as bits: the binary and wide nodes, and
+/// each leaf-order entry's box (which tells the primitive order).
+fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let binary = bvh
+        .nodes
+        .iter()
+        .flat_map(|n| {
+            n.min
+                .into_iter()
+                .chain(n.max)
+                .map(f32::to_bits)
+                .chain([n.first, n.count])
+        })
+        .collect();
+    let wide = bvh
+        .wide
+        .iter()
+        .flat_map(|n| {
+            let bounds = n.bounds.iter().flatten().flatten().map(|x| x.to_bits());
+            bounds.chain(n.child).chain(n.count).collect::<Vec<_>>()
+        })
+        .collect();
+    let entries = bvh.primitives[..bvh.bounded]
+        .iter()
+        .flat_map(|p| {
+            let b = p.bounds(&bvh.data).expect("bounded");
+            [b.min, b.max].map(|v| v.to_array().map(f32::to_bits))
+        })
+        .flatten()
+        .collect();
+    (binary, wide, entries)
+}
+
+/// A scene of every packable kind, big enough for the builder's parallel passes:
+/// scattered and clustered spheres, triangles, cones (thin ones split in pieces).
+fn soup(n: usize) -> Scene {
+    let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
+    let mut next = move || uniform() * 2.0 - 1.0;
+    let mut point = |scale: f32| Vec3::new(next() * scale, next() * scale, next() * scale);
+    let spheres: Vec<(Vec3, f32)> = (0..n)
+        .map(|i| (point(50.0), 0.05 + (i % 7) as f32 * 0.03))
+        .collect();
+    let tris: Vec<[Vec3; 3]> = (0..n)
+        .map(|_| {
+            let a = point(50.0);
+            [a, a + point(0.8), a + point(0.8)]
+        })
+        .collect();
+    let mut scene = scene_with(&spheres, &tris);
+    for i in 0..n / 4 {
+        let base = point(50.0);
+        let (r, apex) = if i % 3 == 0 {
+            (0.04, point(1.5))
+        } else {
+            (0.2, point(0.6))
+        };
+        scene.cones.push(Cone {
+            base,
+            base_radius: r,
+            apex: base + apex,
+            apex_radius: r * 0.5,
+            material: 0,
+            line: 1,
+        });
+    }
+    scene
+}
+
+/// The tree (binary and wide nodes, leaf order) is the same bits on one, two and
+/// four threads: the parallel passes of the biggest nodes and the subtrees handed to
+/// `rayon::join` give what the serial build gives.
+#[test]
+fn the_tree_is_the_same_on_any_number_of_threads() {
+    use crate::gen::{generate, SpdScene};
+    let scenes = [generate(SpdScene::Mount, 8).expect("mount 8"), soup(40_000)];
+    for scene in &scenes {
+        let trees: Vec<_> = [1, 2, 4]
+            .map(|threads| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| tree_bits(&bvh_of(scene)))
+            })
+            .into();
+        assert!(trees[0].2.len() > 90_000, "{} entries", trees[0].2.len() / 6);
+        assert!(trees[1] == trees[0], "two threads against one");
+        assert!(trees[2] == trees[0], "four threads against one");
+    }
+}
