@@ -36,6 +36,7 @@ for f in "$shared"/p3f/2019/*.p3f "$shared"/p3f/2025/*.p3f "$shared"/p3f/extensi
     cases+=("p3f-$name|$f|")
 done
 cases+=("p3f-2019-balls_area_low-spp4|$shared/p3f/2019/balls_area_low.p3f|--spp 4")
+cases+=("p3f-2019-balls_area_low-spp1|$shared/p3f/2019/balls_area_low.p3f|--spp 1")
 cases+=("p3f-2019-balls_area_low-ls3|$shared/p3f/2019/balls_area_low.p3f|--light-samples 3")
 cases+=("p3f-2019-dof-spp9|$shared/p3f/2019/dof.p3f|--spp 9")
 cases+=("p3f-2025-balls_low-spp5-depth3|$shared/p3f/2025/balls_low.p3f|--spp 5 --max-depth 3")
