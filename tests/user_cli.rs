@@ -173,12 +173,22 @@ fn info_bvh_reports_the_tree() {
     assert_eq!(n("nodes"), 2 * n("leaves") - 1);
     assert!(n("depth") >= 1 && n("min_leaf") >= 1 && n("max_leaf") >= n("min_leaf"));
     assert!(b["sah_cost"].as_f64().unwrap() >= 1.0);
+    // The wide tree the queries traverse (issue 29): every node but the root fills one
+    // lane of its parent, every leaf lane is a binary leaf or holds several, and a
+    // scene this small fits in the root alone, which every ray entering it visits.
+    let w = &b["wide"];
+    let wn = |k: &str| w[k].as_u64().unwrap_or_else(|| panic!("{k} in {w}"));
+    let lanes = w["mean_lanes"].as_f64().unwrap() * wn("nodes") as f64;
+    assert_eq!(lanes.round() as u64, wn("nodes") - 1 + wn("leaf_lanes"));
+    assert!(wn("leaf_lanes") <= n("leaves"));
+    assert_eq!((wn("nodes"), wn("depth")), (1, 1));
+    assert_eq!(w["expected_visits"].as_f64().unwrap(), 1.0);
     // The tree's box lies inside the scene's bounds (the plane excluded).
     let lo = b["bounds_min"].as_array().unwrap();
     assert!(lo[2].as_f64().unwrap() >= j["bounds_min"][2].as_f64().unwrap() - 1e-6);
     let human = nffrt(&["info", "--bvh", SHOWCASE], b"");
     let text = String::from_utf8(human.stdout).unwrap();
-    for key in ["bvh", "nodes", "depth", "leaf size", "SAH cost"] {
+    for key in ["bvh", "nodes", "depth", "leaf size", "SAH cost", "wide tree"] {
         assert!(text.contains(key), "{key} in {text}");
     }
     // Without --bvh, no tree is built or shown.

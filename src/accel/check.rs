@@ -6,7 +6,7 @@ use crate::accel::build::sah::{self, Packs};
 use crate::accel::build::split::Piece;
 use crate::accel::leaf::pack::{marked, pack_of, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
 use crate::accel::leaf::tri4::Block;
-use crate::accel::traverse::wide::WIDTH;
+use crate::accel::traverse::wide::{Node8, WIDTH};
 use crate::geometry::Hit;
 use crate::geometry::{ConeShape, Shape};
 use crate::math::{Aabb, Ray, Vec3};
@@ -36,11 +36,29 @@ pub struct BvhStats {
     pub sah_cost: f64,
     /// Bounded primitives in the tree.
     pub primitives: usize,
+    /// The 8-wide tree the queries traverse (collapsed from the binary one above).
+    pub wide: WideStats,
     /// Leaf entries: the bounded primitives, plus one per extra piece of a split cone
     /// (`accel::build::split`).
     pub references: usize,
     /// Unbounded primitives tested beside it.
     pub unbounded: usize,
+}
+
+/// Shape statistics of the 8-wide tree the queries traverse.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct WideStats {
+    /// Number of wide nodes.
+    pub nodes: usize,
+    /// Lanes holding leaves (a leaf lane holds up to eight primitives, in blocks).
+    pub leaf_lanes: usize,
+    /// Depth of the deepest wide node (root = 1).
+    pub depth: u32,
+    /// Occupied lanes per node, on average (of eight).
+    pub mean_lanes: f64,
+    /// Wide nodes a ray that enters the root box visits, in expectation for random
+    /// rays: each node's box's surface area over the root's, summed.
+    pub expected_visits: f64,
 }
 
 impl Bvh {
@@ -55,6 +73,42 @@ impl Bvh {
             }
         }
         best
+    }
+
+    /// The wide tree's [`WideStats`] (all zero for a tree without bounded primitives).
+    fn wide_stats(&self) -> WideStats {
+        if self.bounded == 0 {
+            return WideStats::default();
+        }
+        let node_box = |n: &Node8| {
+            (0..WIDTH)
+                .filter(|&lane| n.child[lane] != u32::MAX)
+                .map(|lane| n.lane_bounds(lane))
+                .reduce(Aabb::union)
+                .expect("a wide node has a lane")
+        };
+        let root_area = node_box(&self.wide[0]).surface_area().max(f32::MIN_POSITIVE) as f64;
+        let mut s = WideStats {
+            nodes: self.wide.len(),
+            ..WideStats::default()
+        };
+        let mut lanes = 0;
+        let mut stack = vec![(0u32, 1u32)];
+        while let Some((index, depth)) = stack.pop() {
+            let node = &self.wide[index as usize];
+            s.depth = s.depth.max(depth);
+            s.expected_visits += node_box(node).surface_area() as f64 / root_area;
+            for lane in (0..WIDTH).filter(|&lane| node.child[lane] != u32::MAX) {
+                lanes += 1;
+                if node.count[lane] > 0 {
+                    s.leaf_lanes += 1;
+                } else {
+                    stack.push((node.child[lane], depth + 1));
+                }
+            }
+        }
+        s.mean_lanes = lanes as f64 / s.nodes as f64;
+        s
     }
 
     /// Checks the structural invariants, of the binary tree and of the wide one the
@@ -220,6 +274,7 @@ impl Bvh {
             mean_leaf: 0.0,
             sah_cost: 0.0,
             primitives: self.copies.as_ref().map_or(self.bounded, |c| c.distinct),
+            wide: self.wide_stats(),
             references: self.bounded,
             unbounded: self.primitives.len() - self.bounded,
         };

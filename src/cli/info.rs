@@ -22,7 +22,7 @@ pub struct InfoArgs {
     #[arg(long)]
     pub json: bool,
     /// Also build the BVH and print its statistics (nodes, leaves, depth, leaf sizes,
-    /// SAH cost, build time).
+    /// SAH cost, the 8-wide tree traversed, build time).
     #[arg(long)]
     pub bvh: bool,
     /// Resource limits.
@@ -333,7 +333,7 @@ fn print_bvh(b: &BvhInfo) {
         outln!("  bounds      {lo:?} .. {hi:?}");
     }
     outln!(
-        "  nodes       {} ({})",
+        "  nodes       {} ({}; the binary tree the wide one is collapsed from)",
         s.nodes,
         count(s.leaves, "leaf", "leaves")
     );
@@ -345,5 +345,14 @@ fn print_bvh(b: &BvhInfo) {
         s.max_leaf
     );
     outln!("  SAH cost    {:.2}", s.sah_cost);
+    let w = &s.wide;
+    outln!(
+        "  wide tree   {} ({} leaf lanes), depth {}, {:.1} of 8 lanes used per node, {:.2} node visits per ray",
+        count(w.nodes, "node", "nodes"),
+        w.leaf_lanes,
+        w.depth,
+        w.mean_lanes,
+        w.expected_visits
+    );
     outln!("  build time  {:.1} ms", b.build_s * 1e3);
 }

@@ -347,3 +347,28 @@ fn the_tree_is_the_same_on_any_number_of_threads() {
         assert!(trees[2] == trees[0], "four threads against one");
     }
 }
+
+/// `info --bvh`'s wide-tree figures agree with the tree's shape: every wide node but
+/// the root fills one lane of its parent, a leaf lane holds one binary leaf or more,
+/// the wide tree is no deeper than the binary one, and the root (which every ray
+/// entering the tree visits) counts 1 toward the expected visits; no tree, no figures.
+#[test]
+fn the_wide_tree_statistics_count_its_nodes_and_lanes() {
+    assert_eq!(
+        bvh_of(&Scene::default()).stats().wide,
+        crate::accel::WideStats::default()
+    );
+    let spheres: Vec<_> = (0..512)
+        .map(|i| (Vec3::new(i as f32 * 3.0, (i % 7) as f32, 0.0), 0.5))
+        .collect();
+    let st = bvh_of(&scene_with(&spheres, &[])).stats();
+    let w = &st.wide;
+    assert!(w.nodes > 1, "{w:?}");
+    let lanes = (w.mean_lanes * w.nodes as f64).round() as usize;
+    assert_eq!(lanes, w.nodes - 1 + w.leaf_lanes, "{w:?}");
+    assert!(w.leaf_lanes <= st.leaves && w.depth <= st.depth, "{st:?}");
+    assert!(
+        w.expected_visits >= 1.0 && w.expected_visits <= w.nodes as f64,
+        "{w:?}"
+    );
+}
