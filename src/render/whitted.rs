@@ -314,7 +314,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         ctx: &mut TraceContext,
     ) -> LightOutcome {
         let to_light = point - at.above;
-        if at.n.dot(to_light) <= 0.0 {
+        if behind(&at, to_light) {
             return LightOutcome::Behind;
         }
         ctx.stats.shadow_rays += 1;
@@ -332,8 +332,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             ctx.stats.shadow_blocked += 1;
             return LightOutcome::Shadowed;
         }
-        let l = to_light / to_light.length();
-        LightOutcome::Lit(intensity.mul_elem(local::<M>(at.m, at.diffuse, at.ns, l, at.view)))
+        lit::<M>(&at, to_light, intensity)
     }
 
     /// Up to [`SHADOW_PACKET`] points of one light, each of the given intensity, seen
@@ -356,8 +355,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         for (k, (ray, &point)) in rays.iter_mut().zip(points).enumerate() {
             // As `light_point` aims it (no ray for a point behind the surface).
             let to_light = point - at.above;
-            let behind = at.n.dot(to_light) <= 0.0;
-            if !behind {
+            if !behind(at, to_light) {
                 active |= 1 << k;
             }
             *ray = Ray::with_time(at.above, to_light, at.time);
@@ -378,12 +376,25 @@ impl<'a, M: Rules> Whitted<'a, M> {
             } else if blocked >> k & 1 != 0 {
                 LightOutcome::Shadowed
             } else {
-                let l = ray.dir / ray.dir.length();
-                LightOutcome::Lit(intensity.mul_elem(local::<M>(at.m, at.diffuse, at.ns, l, at.view)))
+                lit::<M>(at, ray.dir, intensity)
             };
             outcome(point, result);
         }
     }
+}
+
+/// Whether a point of light `to_light` away from a hit lies behind its surface (no
+/// shadow ray is traced to it).
+#[inline(always)]
+fn behind(at: &Lit, to_light: Vec3) -> bool {
+    at.n.dot(to_light) <= 0.0
+}
+
+/// The local term of a point of light `to_light` away from a hit it reaches unblocked.
+#[inline(always)]
+fn lit<M: Rules>(at: &Lit, to_light: Vec3, intensity: Vec3) -> LightOutcome {
+    let l = to_light / to_light.length();
+    LightOutcome::Lit(intensity.mul_elem(local::<M>(at.m, at.diffuse, at.ns, l, at.view)))
 }
 
 /// What the lights see of one hit.
