@@ -23,7 +23,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::image::skybox::{CubeFace, FaceImage, Skybox};
+use crate::image::skybox::{CubeFace, FaceError, FaceImage, Skybox};
 use crate::limits::{DEFAULT_MAX_SCENE_BYTES, MAX_FACE_TEXELS};
 use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
 use crate::scene::Scene;
@@ -107,7 +107,8 @@ pub struct Loaded {
     pub fingerprint: Option<u64>,
     /// Seconds spent parsing (reading the file excluded).
     pub parse_s: f64,
-    /// Seconds spent reading (and decoding) the files the scene names.
+    /// Seconds spent reading the headers of the files the scene names (a skybox's
+    /// faces are decoded later, in the background and as rays need them).
     pub assets_s: f64,
 }
 
@@ -149,6 +150,15 @@ pub enum LoadError {
     /// The caller's cancellation flag was raised ([`load_cancellable`]).
     #[error("loading cancelled")]
     Cancelled,
+}
+
+impl From<FaceError> for LoadError {
+    fn from(e: FaceError) -> LoadError {
+        LoadError::Asset {
+            path: e.path,
+            message: e.message,
+        }
+    }
 }
 
 /// Reads, parses and resolves the scene of `source`.
@@ -308,29 +318,32 @@ impl NamedFiles {
         Ok(Some(NamedFiles { faces, context }))
     }
 
-    /// Reads the faces: their headers, and in [`AssetMode::Decode`] their pixels, in
-    /// parallel.
+    /// Reads the faces' headers (in parallel), and in [`AssetMode::Decode`] makes the
+    /// skybox, whose faces are decoded in the background and on first use
+    /// ([`Skybox`]): a render does not wait for them to start.
     fn read(&self, mode: AssetMode) -> Result<Assets, LoadError> {
         let sizes: Vec<(u32, u32)> = self
             .faces
             .par_iter()
             .map(|path| face_size(path, &self.context))
             .collect::<Result<_, _>>()?;
+        let sizes: [(u32, u32); 6] = sizes.try_into().expect("six faces");
         let skybox = match mode {
             AssetMode::Check => None,
             AssetMode::Decode => {
-                let faces: Vec<FaceImage> = self
-                    .faces
-                    .par_iter()
-                    .map(|path| decode_face(path, &self.context))
-                    .collect::<Result<_, _>>()?;
-                let faces: [FaceImage; 6] = faces.try_into().expect("six faces");
-                Some(Arc::new(Skybox { faces }))
+                let (faces, context) = (self.faces.clone(), self.context.clone());
+                let decoder = move |face: CubeFace| {
+                    let i = face as usize;
+                    decode_face(&faces[i], sizes[i], &context)
+                };
+                let sky = Arc::new(Skybox::lazy(sizes, Box::new(decoder)));
+                sky.decode_in_background();
+                Some(sky)
             }
         };
         Ok(Assets {
             skybox,
-            skybox_sizes: Some(sizes.try_into().expect("six faces")),
+            skybox_sizes: Some(sizes),
         })
     }
 }
@@ -341,7 +354,7 @@ fn fingerprint(bytes: &[u8], named: Option<&NamedFiles>) -> Result<u64, LoadErro
     let mut files = Vec::new();
     for path in named.map(|n| &n.faces[..]).unwrap_or_default() {
         let context = named.map(|n| n.context.as_str()).unwrap_or_default();
-        files.push(std::fs::read(path).map_err(|e| cannot_read_face(path, &e, context))?);
+        files.push(std::fs::read(path).map_err(|e| LoadError::from(cannot_read_face(path, &e, context)))?);
     }
     let pieces: Vec<&[u8]> = files.iter().map(Vec::as_slice).collect();
     Ok(crate::fingerprint::scene_fingerprint_with(bytes, &pieces))
@@ -373,15 +386,15 @@ fn find_faces(folder: &Path, context: &str) -> Result<[PathBuf; 6], LoadError> {
     Ok(faces.try_into().expect("six faces"))
 }
 
-fn cannot_read_face(path: &Path, e: &std::io::Error, context: &str) -> LoadError {
-    LoadError::Asset {
+fn cannot_read_face(path: &Path, e: &std::io::Error, context: &str) -> FaceError {
+    FaceError {
         path: path.to_path_buf(),
         message: format!("cannot read skybox image: {} ({context})", crate::io_reason(e)),
     }
 }
 
-fn not_an_image(path: &Path, e: &image::ImageError, context: &str) -> LoadError {
-    LoadError::Asset {
+fn not_an_image(path: &Path, e: &image::ImageError, context: &str) -> FaceError {
+    FaceError {
         path: path.to_path_buf(),
         message: format!("not a readable JPEG or PNG image: {e} ({context})"),
     }
@@ -394,7 +407,7 @@ fn face_size(path: &Path, context: &str) -> Result<(u32, u32), LoadError> {
         .and_then(|r| r.with_guessed_format())
         .map_err(|e| cannot_read_face(path, &e, context))?
         .into_dimensions()
-        .map_err(|e| not_an_image(path, &e, context))?;
+        .map_err(|e| LoadError::from(not_an_image(path, &e, context)))?;
     if w == 0 || h == 0 || w as u64 * h as u64 > MAX_FACE_TEXELS {
         return Err(LoadError::Asset {
             path: path.to_path_buf(),
@@ -404,14 +417,26 @@ fn face_size(path: &Path, context: &str) -> Result<(u32, u32), LoadError> {
     Ok((w, h))
 }
 
-/// Decodes a face image (its size checked first by [`face_size`]).
-fn decode_face(path: &Path, context: &str) -> Result<FaceImage, LoadError> {
+/// Decodes a face image, whose header said `size` ([`face_size`]).
+fn decode_face(path: &Path, size: (u32, u32), context: &str) -> Result<FaceImage, FaceError> {
     let decoded = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
         .map_err(|e| cannot_read_face(path, &e, context))?
         .decode()
         .map_err(|e| not_an_image(path, &e, context))?;
     let rgb = decoded.into_rgb8();
+    if rgb.dimensions() != size {
+        return Err(FaceError {
+            path: path.to_path_buf(),
+            message: format!(
+                "decoded to {} x {} texels, not the {} x {} of its header ({context})",
+                rgb.width(),
+                rgb.height(),
+                size.0,
+                size.1
+            ),
+        });
+    }
     Ok(FaceImage {
         width: rgb.width(),
         height: rgb.height(),

@@ -23,6 +23,7 @@ use thiserror::Error;
 
 use crate::accel::{Aggregate, Bvh};
 use crate::geometry::{build_geometry_for_shutter, Primitive};
+use crate::image::skybox::FaceError;
 use crate::image::{Image, Region};
 use crate::load::Assets;
 use crate::render::emitters::Emitters;
@@ -40,6 +41,9 @@ pub enum RenderError {
     /// The observer cancelled the render.
     #[error("the render was cancelled")]
     Cancelled,
+    /// A skybox face could not be decoded (the picture is not given).
+    #[error("{0}")]
+    Asset(FaceError),
 }
 
 /// A scene ready to render (see the module docs).
@@ -173,7 +177,17 @@ impl RenderScene {
         observer: &dyn Observer,
     ) -> Result<(Image, Stats), RenderError> {
         check_options(opts, region).map_err(RenderError::Options)?;
-        render_region(self, view, opts, region, observer).ok_or(RenderError::Cancelled)
+        let rendered = render_region(self, view, opts, region, observer).ok_or(RenderError::Cancelled)?;
+        self.decode_assets().map_err(RenderError::Asset)?;
+        Ok(rendered)
+    }
+
+    /// Waits until the files the scene names are decoded (a skybox's faces are decoded
+    /// while rendering, [`crate::image::skybox::Skybox`]): the first that could not
+    /// be, whose rays saw black. A caller tracing rays itself checks this before
+    /// giving out what it traced.
+    pub fn decode_assets(&self) -> Result<(), FaceError> {
+        self.background.decode_all()
     }
 }
 

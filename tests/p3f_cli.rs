@@ -115,6 +115,33 @@ fn a_missing_incomplete_or_corrupt_skybox_is_an_io_error_naming_the_path() {
     assert_eq!(err.lines().count(), 1, "{err}");
 }
 
+/// A face whose header reads but whose pixels do not (a PNG cut after its header) is
+/// found while rendering, since faces are decoded then: still an I/O error naming
+/// the file, with no picture written, whether the picture looks at that face or not.
+#[test]
+fn a_face_cut_after_its_header_is_an_io_error_found_while_rendering() {
+    let dir = scratch_dir("p3f_cli", "cut");
+    for (look, cut) in [("1 0 0", "left"), ("1 0 0", "front"), ("0 0 1", "front")] {
+        write_skybox(&dir);
+        let path = dir.join(format!("sky/{cut}.png"));
+        let bytes = std::fs::read(&path).unwrap();
+        // The signature (8 bytes) and the IHDR chunk (25): the size, then nothing.
+        std::fs::write(&path, &bytes[..33]).unwrap();
+        let out = dir.join("never.png");
+        let run = render_look(&dir, look, &out);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(4), "{look} {cut}: {err}");
+        assert!(!out.exists(), "{look} {cut}: a picture was written");
+        assert!(
+            err.contains(&format!("{cut}.png"))
+                && err.contains("not a readable")
+                && err.contains("look.p3f:2:5"),
+            "{look} {cut}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}
+
 #[test]
 fn format_p3f_reads_standard_input_and_the_extension_is_the_default() {
     let src = b"spp 4\ncamera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 6\n\

@@ -84,6 +84,7 @@ pub fn render_error(e: RenderError) -> PyErr {
     match e {
         RenderError::Options(m) => PyValueError::new_err(m),
         RenderError::Cancelled => PyKeyboardInterrupt::new_err("the render was cancelled"),
+        RenderError::Asset(e) => PyOSError::new_err(e.to_string()),
     }
 }
 

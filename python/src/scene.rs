@@ -88,7 +88,16 @@ fn load_prepared(
     };
     let source = Source::Text { name, bytes, dir };
     match load_cancellable(source, &opts, cancel) {
-        Ok(loaded) => Ok(prepare(loaded.scene, &loaded.assets)),
+        Ok(loaded) => {
+            // The skybox's faces decoded now, so that a broken one is an error of
+            // the load, as it is for every other file problem here.
+            let scene = prepare(loaded.scene, &loaded.assets);
+            scene.decode_assets().map_err(|e| Unloaded {
+                error: e.into(),
+                hint: None,
+            })?;
+            Ok(scene)
+        }
         Err(e) => {
             let reads_as_p3f = matches!(e, LoadError::Parse { .. })
                 && format == Format::Nff

@@ -20,7 +20,7 @@ use nffrt::geometry::build_geometry;
 use nffrt::limits::MAX_THREADS;
 use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
-use nffrt::prepare::{prepare_with, PrepareOptions};
+use nffrt::prepare::{prepare_with, PrepareOptions, RenderError};
 use nffrt::render::RenderRequest;
 use nffrt::render::{Camera, RenderOptions, Sampling};
 use nffrt::scene::{Accel, Integrator};
@@ -320,7 +320,10 @@ fn time_renders(
     let scene = pool.install(|| prepare_with(loaded.scene.clone(), &loaded.assets, &prepare));
     let render = || {
         pool.install(|| scene.render(scene.view(), &opts))
-            .map_err(|e| CliError::usage(e.to_string()))
+            .map_err(|e| match e {
+                RenderError::Asset(e) => CliError::io(e.to_string()),
+                other => CliError::usage(other.to_string()),
+            })
     };
     let (_, stats) = render()?;
     let mut seconds = Vec::new();

@@ -312,6 +312,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     progress.finish();
     let (image, rays) =
         rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
+    scene.decode_assets().map_err(|e| CliError::io(e.to_string()))?;
     let render_s = t2.elapsed().as_secs_f64();
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];

@@ -8,6 +8,9 @@
 //! texel is `(floor((w-1) s), floor((h-1) t))` counting rows from the **bottom** of
 //! the image. A texel's colour is its 8-bit value / 255 (no filtering, no gamma).
 
+use std::path::PathBuf;
+use std::sync::{Arc, OnceLock};
+
 use crate::math::Vec3;
 
 /// A face of the skybox cube, by the template's names.
@@ -63,11 +66,111 @@ pub struct FaceImage {
     pub rgb: Vec<u8>,
 }
 
-/// A cube-map background, decoded once per scene.
+/// Why a face image could not be decoded: the file, and what went wrong (naming the
+/// line of the scene that named the skybox).
 #[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FaceError {
+    /// The face's file.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl std::fmt::Display for FaceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.message)
+    }
+}
+
+/// Decodes a face's image.
+pub type FaceDecoder = Box<dyn Fn(CubeFace) -> Result<FaceImage, FaceError> + Send + Sync>;
+
+/// A cube-map background. The faces' sizes are known from their headers when it is
+/// made; their texels are decoded once each, by whichever comes first: the decoding
+/// [`Skybox::decode_in_background`] starts, or the first ray that sees the face. So
+/// no ray waits for a face it does not see, and a render starts without waiting for
+/// any; [`Skybox::decode_all`] then reports a face that could not be decoded (its
+/// rays saw black), before a picture is written.
 pub struct Skybox {
-    /// The face images in [`CubeFace::ALL`]'s order.
-    pub faces: [FaceImage; 6],
+    /// Width and height of each face, in [`CubeFace::ALL`]'s order.
+    sizes: [(u32, u32); 6],
+    /// Each face's RGB triples, row by row from the top, once decoded.
+    texels: [OnceLock<Result<Vec<u8>, FaceError>>; 6],
+    /// How to decode a face not yet decoded (`None`: all were given decoded).
+    decoder: Option<FaceDecoder>,
+}
+
+impl std::fmt::Debug for Skybox {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let decoded = self.texels.each_ref().map(|t| t.get().is_some());
+        f.debug_struct("Skybox")
+            .field("sizes", &self.sizes)
+            .field("decoded", &decoded)
+            .finish()
+    }
+}
+
+impl Skybox {
+    /// A skybox of decoded faces, in [`CubeFace::ALL`]'s order.
+    pub fn decoded(faces: [FaceImage; 6]) -> Skybox {
+        Skybox {
+            sizes: faces.each_ref().map(|f| (f.width, f.height)),
+            texels: faces.map(|f| OnceLock::from(Ok(f.rgb))),
+            decoder: None,
+        }
+    }
+
+    /// A skybox whose faces have the sizes `sizes` (each at least 1 x 1, in
+    /// [`CubeFace::ALL`]'s order) and are decoded by `decoder` when first needed; a
+    /// face decoded to another size is an error.
+    pub fn lazy(sizes: [(u32, u32); 6], decoder: FaceDecoder) -> Skybox {
+        Skybox {
+            sizes,
+            texels: Default::default(),
+            decoder: Some(decoder),
+        }
+    }
+
+    /// Starts decoding every face on a thread of its own (faces a ray needs first
+    /// are decoded by that ray's thread).
+    pub fn decode_in_background(self: &Arc<Skybox>) {
+        let sky = Arc::clone(self);
+        std::thread::spawn(move || sky.decode_all());
+    }
+
+    /// Decodes the faces not yet decoded (waiting for those under way): the first
+    /// face, in [`CubeFace::ALL`]'s order, that could not be.
+    pub fn decode_all(&self) -> Result<(), FaceError> {
+        for face in CubeFace::ALL {
+            if let Err(e) = self.face(face) {
+                return Err(e.clone());
+            }
+        }
+        Ok(())
+    }
+
+    /// Face `face`'s texels, decoded now if they were not yet.
+    fn face(&self, face: CubeFace) -> &Result<Vec<u8>, FaceError> {
+        let i = face as usize;
+        self.texels[i].get_or_init(|| {
+            let decoder = self.decoder.as_ref().expect("undecoded faces have a decoder");
+            let image = decoder(face)?;
+            if (image.width, image.height) != self.sizes[i] {
+                return Err(FaceError {
+                    path: PathBuf::from(face.name()),
+                    message: format!(
+                        "the {} face decoded to {} x {} texels, not the {} x {} of its header",
+                        face.name(),
+                        image.width,
+                        image.height,
+                        self.sizes[i].0,
+                        self.sizes[i].1
+                    ),
+                });
+            }
+            Ok(image.rgb)
+        })
+    }
 }
 
 /// Where a direction meets the skybox.
@@ -104,24 +207,28 @@ impl Skybox {
                 (CubeFace::Back, d.x, d.y)
             };
         }
-        let img = &self.faces[face as usize];
+        let (width, height) = self.sizes[face as usize];
         let s = (sc / m + 1.0) * 0.5;
         let t = (tc / m + 1.0) * 0.5;
         // Clamped: rounding can put s or t a hair outside [0, 1].
         let at = |f: f32, n: u32| (((n - 1) as f32 * f).floor().max(0.0) as u32).min(n - 1);
         SkyTexel {
             face,
-            column: at(s, img.width),
-            row: at(t, img.height),
+            column: at(s, width),
+            row: at(t, height),
         }
     }
 
-    /// The colour of a texel.
+    /// The colour of a texel (black on a face that could not be decoded: see
+    /// [`Skybox::decode_all`]).
     pub fn color(&self, t: &SkyTexel) -> Vec3 {
-        let img = &self.faces[t.face as usize];
-        let from_top = img.height - 1 - t.row;
-        let i = 3 * (from_top as usize * img.width as usize + t.column as usize);
-        let c = |k: usize| img.rgb[i + k] as f32 / 255.0;
+        let Ok(rgb) = self.face(t.face) else {
+            return Vec3::ZERO;
+        };
+        let (width, height) = self.sizes[t.face as usize];
+        let from_top = height - 1 - t.row;
+        let i = 3 * (from_top as usize * width as usize + t.column as usize);
+        let c = |k: usize| rgb[i + k] as f32 / 255.0;
         Vec3::new(c(0), c(1), c(2))
     }
 }
@@ -140,9 +247,7 @@ mod tests {
                 .flat_map(|row| (0..5u8).flat_map(move |col| [f, col, row]))
                 .collect(),
         };
-        Skybox {
-            faces: [face(0), face(1), face(2), face(3), face(4), face(5)],
-        }
+        Skybox::decoded([face(0), face(1), face(2), face(3), face(4), face(5)])
     }
 
     #[test]
@@ -183,5 +288,63 @@ mod tests {
         assert_eq!((t.face, t.column), (CubeFace::Left, 3));
         // z wins only when strictly larger.
         assert_eq!(sky.texel(Vec3::new(1.0, 0.0, 1.0)).face, CubeFace::Left);
+    }
+
+    /// A lazy skybox decodes each face once, whoever asks first and however many
+    /// threads ask together, to the texels a decoded one has; a face its decoder
+    /// fails on (or decodes to another size than its header's) looks black and is
+    /// reported by `decode_all`, the first in face order.
+    #[test]
+    fn lazy_faces_decode_once_and_report_the_first_failure() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let calls = Arc::new(AtomicUsize::new(0));
+        let counted = Arc::clone(&calls);
+        let whole = labelled();
+        let broken = |face: CubeFace| FaceError {
+            path: PathBuf::from(face.name()),
+            message: "cut".into(),
+        };
+        let sky = Arc::new(Skybox::lazy(
+            [(5, 3); 6],
+            Box::new(move |face| {
+                counted.fetch_add(1, Ordering::SeqCst);
+                let mut rgb: Vec<u8> = (0..3u8)
+                    .flat_map(|row| (0..5u8).flat_map(move |col| [face as u8, col, row]))
+                    .collect();
+                match face {
+                    CubeFace::Top => Err(broken(face)),
+                    CubeFace::Back => {
+                        rgb.truncate(9);
+                        Ok(FaceImage {
+                            width: 3,
+                            height: 1,
+                            rgb,
+                        })
+                    }
+                    _ => Ok(FaceImage {
+                        width: 5,
+                        height: 3,
+                        rgb,
+                    }),
+                }
+            }),
+        ));
+        let d = Vec3::new(1.0, 0.2, -0.3);
+        std::thread::scope(|s| {
+            for _ in 0..4 {
+                s.spawn(|| assert_eq!(sky.color(&sky.texel(d)), whole.color(&whole.texel(d))));
+            }
+        });
+        assert_eq!(calls.load(Ordering::SeqCst), 1, "the left face decoded once");
+        assert_eq!(sky.color(&sky.texel(Vec3::new(0.0, 1.0, 0.0))), Vec3::ZERO);
+        assert_eq!(sky.decode_all(), Err(broken(CubeFace::Top)));
+        // Left and top were decoded (top's failure kept), right now; it stops at top.
+        assert_eq!(calls.load(Ordering::SeqCst), 3);
+        assert_eq!(sky.color(&sky.texel(Vec3::new(0.0, 0.0, -1.0))), Vec3::ZERO);
+        let back = sky.texels[CubeFace::Back as usize].get().unwrap();
+        assert!(
+            back.as_ref().is_err_and(|e| e.message.contains("3 x 1")),
+            "{back:?}"
+        );
     }
 }

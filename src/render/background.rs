@@ -3,11 +3,11 @@
 
 use std::sync::Arc;
 
-use crate::image::skybox::{SkyTexel, Skybox};
+use crate::image::skybox::{FaceError, SkyTexel, Skybox};
 use crate::math::Vec3;
 
 /// What rays that leave the scene see.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Background {
     /// One colour in every direction.
     Color(Vec3),
@@ -21,6 +21,15 @@ impl Background {
         match skybox {
             Some(sky) => Background::Skybox(sky),
             None => Background::Color(color),
+        }
+    }
+
+    /// Decodes what is not yet decoded: the first skybox face that could not be
+    /// ([`Skybox::decode_all`]).
+    pub fn decode_all(&self) -> Result<(), FaceError> {
+        match self {
+            Background::Color(_) => Ok(()),
+            Background::Skybox(sky) => sky.decode_all(),
         }
     }
 

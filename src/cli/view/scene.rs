@@ -103,6 +103,9 @@ impl Source {
         let loaded = load_scene_cancellable(&self.path, &self.limits, Need::Render, cancel)?;
         let parsed = (loaded.scene.clone(), loaded.assets.clone());
         let scene = Arc::new(prepare(loaded.scene, &loaded.assets));
+        // The skybox's faces decoded before the first frame, so that a broken one is
+        // a failed load the page shows (the current scene stays).
+        scene.decode_assets().map_err(|e| CliError::io(e.to_string()))?;
         let info = scene.info();
         let warnings = info.warnings.iter().map(|w| w.to_string()).collect();
         let counts = Counts {
