@@ -28,7 +28,7 @@ use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
 use crate::accel::leaf::tri4::Ray4;
 use crate::geometry::Hit;
-use crate::math::Ray;
+use crate::math::{lanes, Ray};
 
 /// Rays per packet.
 pub const PACKET: usize = RAYS;
@@ -234,10 +234,7 @@ impl Bvh {
         if unbounded.is_empty() {
             return;
         }
-        let mut each = active;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(active) {
             let ray = q.rays.ray(k);
             for (i, p) in unbounded.iter().enumerate() {
                 if let Some(h) = p.intersect(&ray, q.nearest[k].limit, &self.data) {
@@ -263,14 +260,12 @@ impl Bvh {
         loop {
             let node = &self.wide[index as usize];
             count!(NODES, 1);
-            let (near, mut lanes) = match &octant.frustum {
+            let (near, through) = match &octant.frustum {
                 Some(f) => kernels.frustum(node, f, farthest(&q.limits, active)),
                 None => ([0.0; WIDTH], ALL),
             };
             let base = sp;
-            while lanes != 0 {
-                let lane = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
+            for lane in lanes(through) {
                 let entering = kernels.entered8(node, lane, &q.boxes, &octant.near, &q.limits) & active;
                 if entering == 0 {
                     continue;
@@ -312,13 +307,10 @@ impl Bvh {
         }
     }
 
-    /// The subtree of wide node `start` walked by each of the rays `lanes` alone.
+    /// The subtree of wide node `start` walked by each of the rays `rays` alone.
     #[inline(always)]
-    fn solo_closest<S: Kernels>(&self, kernels: S, start: u32, lanes: u32, q: &mut Closest) {
-        let mut each = lanes;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+    fn solo_closest<S: Kernels>(&self, kernels: S, start: u32, rays: u32, q: &mut Closest) {
+        for k in lanes(rays) {
             let (ray, ray4) = single_ray(q.rays, k);
             self.walk_closest::<S, { leaf_kinds::ALL }, ()>(
                 kernels,
@@ -352,10 +344,7 @@ impl Bvh {
                         break;
                     }
                     let (t, u, v, hit) = kernels.hits8(block, j, q.rays, &q.limits);
-                    let mut each = hit & entering;
-                    while each != 0 {
-                        let k = each.trailing_zeros() as usize;
-                        each &= each - 1;
+                    for k in lanes(hit & entering) {
                         q.nearest[k].offer(
                             Hit {
                                 t: t[k],
@@ -370,10 +359,7 @@ impl Bvh {
             }
             return;
         }
-        let mut each = entering;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(entering) {
             let (ray, ray4) = single_ray(q.rays, k);
             self.leaf_closest::<S, { leaf_kinds::ALL }, ()>(
                 kernels,

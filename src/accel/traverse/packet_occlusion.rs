@@ -10,6 +10,7 @@ use super::wide::{Kernels, Portable};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
+use crate::math::lanes;
 
 /// An occlusion packet query under way.
 struct Shadow<'a> {
@@ -71,10 +72,7 @@ impl Bvh {
         if unbounded.is_empty() {
             return;
         }
-        let mut each = active;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(active) {
             let ray = q.rays.ray(k);
             if unbounded
                 .iter()
@@ -95,13 +93,11 @@ impl Bvh {
         loop {
             let node = &self.wide[index as usize];
             count!(NODES, 1);
-            let mut lanes = match &octant.frustum {
+            let through = match &octant.frustum {
                 Some(f) => kernels.frustum(node, f, farthest(q.t_max, active)).1,
                 None => ALL,
             };
-            while lanes != 0 {
-                let lane = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
+            for lane in lanes(through) {
                 let entering = kernels.entered8(node, lane, &q.boxes, &octant.near, q.t_max) & active;
                 if entering == 0 {
                     continue;
@@ -145,13 +141,10 @@ impl Bvh {
         }
     }
 
-    /// The subtree of wide node `start` walked by each of the rays `lanes` alone.
+    /// The subtree of wide node `start` walked by each of the rays `rays` alone.
     #[inline(always)]
-    fn solo_any<S: Kernels>(&self, kernels: S, start: u32, lanes: u32, q: &mut Shadow) {
-        let mut each = lanes;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+    fn solo_any<S: Kernels>(&self, kernels: S, start: u32, rays: u32, q: &mut Shadow) {
+        for k in lanes(rays) {
             let (ray, ray4) = single_ray(q.rays, k);
             let boxes = RayBoxes::new(&ray);
             let found =
@@ -190,10 +183,7 @@ impl Bvh {
             return entering & !left;
         }
         let mut blocked = 0;
-        let mut each = entering;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(entering) {
             let (ray, ray4) = single_ray(q.rays, k);
             let found =
                 self.leaf_any::<S, { leaf_kinds::ALL }>(kernels, first, count, &ray, &ray4, q.t_max[k]);
