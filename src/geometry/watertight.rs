@@ -32,7 +32,7 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 
 use wide::{f32x4, f32x8};
 
-use crate::math::{Ray, Vec3};
+use crate::math::{lanes, Ray, Vec3};
 
 /// A coordinate axis (an index into a point's coordinates that needs no bounds
 /// check).
@@ -368,14 +368,12 @@ pub(crate) fn watertight_exact<T: Lanes>(
 /// are exact there and the difference is rounded once, so its sign is the exact one
 /// (and it is zero only on the edge's line). Back in `f32` it may underflow to zero.
 #[inline(always)]
-pub(crate) fn exact_lanes(mut mask: u32, xy: [&[f32]; 6], e: [&mut [f32]; 3]) {
+pub(crate) fn exact_lanes(mask: u32, xy: [&[f32]; 6], e: [&mut [f32]; 3]) {
     let exact = |(px, py): (f32, f32), (qx, qy): (f32, f32)| {
         (f64::from(qx) * f64::from(py) - f64::from(qy) * f64::from(px)) as f32
     };
     let [e0, e1, e2] = e;
-    while mask != 0 {
-        let k = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
+    for k in lanes(mask) {
         let (a, b, c) = ((xy[0][k], xy[1][k]), (xy[2][k], xy[3][k]), (xy[4][k], xy[5][k]));
         for (value, (p, q)) in [(&mut e0[k], (b, c)), (&mut e1[k], (c, a)), (&mut e2[k], (a, b))] {
             if *value == 0.0 {

@@ -1,10 +1,13 @@
-//! Small linear-algebra kit: [`Vec3`], [`Ray`] and [`Aabb`], all `f32` and `Copy`.
+//! Small linear-algebra kit: [`Vec3`], [`Ray`] and [`Aabb`], all `f32` and `Copy`;
+//! and the set bits of a lane mask as lane indices (`lanes`).
 
 mod aabb;
+mod lanes;
 mod ray;
 mod vec3;
 
 pub use aabb::Aabb;
+pub(crate) use lanes::lanes;
 pub use ray::{safe_recip, Ray, TINY_DIR};
 pub use vec3::Vec3;
 

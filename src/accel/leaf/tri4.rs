@@ -14,7 +14,7 @@ use wide::f32x4;
 
 use crate::geometry::watertight::{watertight, watertight_exact, Sheared};
 use crate::geometry::{Hit, Triangle};
-use crate::math::Ray;
+use crate::math::{lanes, Ray};
 
 /// Lanes per block.
 pub const LANES: usize = 4;
@@ -88,12 +88,9 @@ pub(in crate::accel) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T;
 /// equals (blocks keep their primitives in index order, and a pair of blocks the
 /// first one's before the second one's, so this is the lowest index).
 #[inline(always)]
-pub(in crate::accel) fn nearest_lane(t: &[f32], mut mask: u32) -> usize {
+pub(in crate::accel) fn nearest_lane(t: &[f32], mask: u32) -> usize {
     let mut lane = mask.trailing_zeros() as usize;
-    mask &= mask - 1;
-    while mask != 0 {
-        let k = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
+    for k in lanes(mask & (mask - 1)) {
         if t[k] < t[lane] {
             lane = k;
         }

@@ -8,7 +8,7 @@ use super::wide::{Kernels, Portable, RayBoxes};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, marked, with_kinds, CONE4_LEAF, SPHERE4_LEAF};
 use crate::accel::leaf::tri4::{Block, Ray4, Tri4, LANES};
-use crate::math::Ray;
+use crate::math::{lanes, Ray};
 
 /// The shadow-cache value of [`Bvh::occluded_hinted`] that names nothing.
 pub const NO_HINT: u32 = u32::MAX;
@@ -196,11 +196,8 @@ impl Bvh {
             loop {
                 let node = &self.wide[index as usize];
                 count!(NODES, 1);
-                let mut mask = kernels.entered(node, boxes, t_max);
                 let mut next = None;
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
+                for lane in lanes(kernels.entered(node, boxes, t_max)) {
                     let count = node.count[lane] as usize;
                     if count == 0 {
                         // Go straight on to the first child entered, stack the others.

@@ -1,6 +1,7 @@
 //! Packets of up to eight coherent rays (neighbouring camera rays) traced together:
 //! the closest-hit query of eight rays at once ([`Bvh::closest_hits8`]) and its
-//! wrappers over slices of rays.
+//! wrappers over slices of rays, and the walk of the tree it shares with the
+//! packets' occlusion query (`packet_occlusion`), over a [`PacketQuery`].
 //!
 //! The packet is split by direction octant (`octant`), and each octant's rays share
 //! one walk of the tree: at each node one conservative frustum test of all of them
@@ -28,7 +29,7 @@ use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
 use crate::accel::leaf::tri4::Ray4;
 use crate::geometry::Hit;
-use crate::math::Ray;
+use crate::math::{lanes, Ray};
 
 /// Rays per packet.
 pub const PACKET: usize = RAYS;
@@ -98,13 +99,63 @@ fn looking_past(t: f32, limits: &[f32; RAYS]) -> u32 {
     f32x8::splat(t).simd_lt(f32x8::from(*limits)).to_bitmask()
 }
 
+/// A packet query under way, as the packet walk (`Bvh::walk_packet`) sees it: the
+/// closest hit ([`Closest`]) or occlusion (`packet_occlusion::Shadow`). The walk is
+/// compiled for each, the choices below made at compile time.
+pub(super) trait PacketQuery {
+    /// True for a query that stops at each ray's first hit (occlusion): the walk drops
+    /// the rays a leaf is done with and stacks children as they come (no distance
+    /// orders them or culls them later). False for the nearest hit: children are
+    /// stacked nearest on top with their entry bounds.
+    const ANY_HIT: bool;
+
+    /// Each ray's distance limit: a box entered beyond it is not entered.
+    fn limits(&self) -> &[f32; RAYS];
+
+    /// Of the rays `rays` of an entry stacked with the entry bound `near`, those
+    /// still to walk it.
+    fn looking(&self, rays: u32, near: f32) -> u32;
+
+    /// Tests the leaf lane (`first`, `count`, as in `Bvh::leaf_closest`) against the
+    /// rays `entering` (at least one): the rays it is done with (`ANY_HIT` only).
+    fn leaf<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, first: usize, count: usize, entering: u32) -> u32;
+
+    /// Walks the subtree of the wide node `start` with each of the rays `rays` alone.
+    fn solo<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, start: u32, rays: u32);
+}
+
 /// A closest-hit packet query under way.
 struct Closest<'a> {
     rays: &'a Ray8,
-    boxes: PacketBoxes,
     nearest: [Nearest; PACKET],
     /// Each ray's `nearest[k].limit`, side by side for the vector tests.
     limits: [f32; PACKET],
+}
+
+impl PacketQuery for Closest<'_> {
+    const ANY_HIT: bool = false;
+
+    #[inline(always)]
+    fn limits(&self) -> &[f32; RAYS] {
+        &self.limits
+    }
+
+    /// The rays that have found nothing nearer than `near`.
+    #[inline(always)]
+    fn looking(&self, rays: u32, near: f32) -> u32 {
+        rays & looking_past(near, &self.limits)
+    }
+
+    #[inline(always)]
+    fn leaf<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, first: usize, count: usize, entering: u32) -> u32 {
+        bvh.leaf_closest8(kernels, first, count, entering, self);
+        0
+    }
+
+    #[inline(always)]
+    fn solo<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, start: u32, rays: u32) {
+        bvh.solo_closest(kernels, start, rays, self);
+    }
 }
 
 impl Bvh {
@@ -206,24 +257,38 @@ impl Bvh {
         }
         let mut q = Closest {
             rays,
-            boxes: PacketBoxes::new(rays),
             nearest: [Nearest::new(t_max); PACKET],
             limits: [t_max; PACKET],
         };
         self.unbounded_closest8(&mut q, active);
-        if !self.wide.is_empty() {
-            let mut octants = Octants::new(&q.boxes, active);
-            PACKET_STACK.with_borrow_mut(|stack| {
-                while let Some(octant) = octants.next(&q.boxes) {
-                    self.walk_octant_closest(kernels, &octant, &mut q, &mut stack.0);
-                }
-            });
-        }
+        self.walk_packet(kernels, rays, &mut q, active);
         for (k, (out, nearest)) in out.iter_mut().zip(&q.nearest).enumerate() {
             if active >> k & 1 != 0 {
                 *out = nearest.best;
             }
         }
+    }
+
+    /// The tree walks of the rays `active` of `rays` for the query `q`, an octant at
+    /// a time.
+    #[inline(always)]
+    pub(super) fn walk_packet<S: Kernels, Q: PacketQuery>(
+        &self,
+        kernels: S,
+        rays: &Ray8,
+        q: &mut Q,
+        active: u32,
+    ) {
+        if active == 0 || self.wide.is_empty() {
+            return;
+        }
+        let boxes = PacketBoxes::new(rays);
+        let mut octants = Octants::new(&boxes, active);
+        PACKET_STACK.with_borrow_mut(|stack| {
+            while let Some(octant) = octants.next(&boxes) {
+                self.walk_octant(kernels, &boxes, &octant, q, &mut stack.0);
+            }
+        });
     }
 
     /// The unbounded primitives (planes) against the rays `active` of `q`.
@@ -234,10 +299,7 @@ impl Bvh {
         if unbounded.is_empty() {
             return;
         }
-        let mut each = active;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(active) {
             let ray = q.rays.ray(k);
             for (i, p) in unbounded.iter().enumerate() {
                 if let Some(h) = p.intersect(&ray, q.nearest[k].limit, &self.data) {
@@ -248,13 +310,18 @@ impl Bvh {
         }
     }
 
-    /// The tree walk of the rays of `octant`, improving `q`.
+    /// The tree walk of the rays of `octant` (whose boxes are in `boxes`) for the
+    /// query `q`: at each node one frustum test of them all against the eight boxes,
+    /// then one eight-ray test of each box it lets through; leaves tested as they
+    /// are entered, inner children stacked (the nearest on top when `q` looks for
+    /// the nearest hit).
     #[inline(always)]
-    fn walk_octant_closest<S: Kernels>(
+    fn walk_octant<S: Kernels, Q: PacketQuery>(
         &self,
         kernels: S,
+        boxes: &PacketBoxes,
         octant: &Octant,
-        q: &mut Closest,
+        q: &mut Q,
         stack: &mut [Entry],
     ) {
         let mut sp = 0usize;
@@ -263,15 +330,13 @@ impl Bvh {
         loop {
             let node = &self.wide[index as usize];
             count!(NODES, 1);
-            let (near, mut lanes) = match &octant.frustum {
-                Some(f) => kernels.frustum(node, f, farthest(&q.limits, active)),
+            let (near, through) = match &octant.frustum {
+                Some(f) => kernels.frustum(node, f, farthest(q.limits(), active)),
                 None => ([0.0; WIDTH], ALL),
             };
             let base = sp;
-            while lanes != 0 {
-                let lane = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
-                let entering = kernels.entered8(node, lane, &q.boxes, &octant.near, &q.limits) & active;
+            for lane in lanes(through) {
+                let entering = kernels.entered8(node, lane, boxes, &octant.near, q.limits()) & active;
                 if entering == 0 {
                     continue;
                 }
@@ -280,29 +345,38 @@ impl Bvh {
                     stack[sp] = Entry {
                         node: node.child[lane],
                         rays: entering,
-                        near: near[lane],
+                        near: if Q::ANY_HIT { 0.0 } else { near[lane] },
                     };
                     sp += 1;
-                } else {
-                    self.leaf_closest8(kernels, node.child[lane] as usize, count, entering, q);
+                    continue;
+                }
+                let done = q.leaf(self, kernels, node.child[lane] as usize, count, entering);
+                if Q::ANY_HIT {
+                    active &= !done;
+                    if active == 0 {
+                        // (Entries stacked for these rays only are skipped below.)
+                        break;
+                    }
                 }
             }
-            sort_descending(&mut stack[base..sp]);
-            // The nearest entry next, while one of its rays has found nothing nearer
-            // than the entry's bound; an entry left to [`SOLO`] rays or fewer is
-            // walked by each of them alone.
+            if !Q::ANY_HIT {
+                sort_descending(&mut stack[base..sp]);
+            }
+            // The top entry next, with those of its rays still looking (for the
+            // nearest hit: those that have found nothing nearer than its bound); an
+            // entry left to [`SOLO`] rays or fewer is walked by each of them alone.
             loop {
                 if sp == 0 {
                     return;
                 }
                 sp -= 1;
                 let e = stack[sp];
-                let entering = e.rays & looking_past(e.near, &q.limits);
+                let entering = q.looking(e.rays, e.near);
                 if entering == 0 {
                     continue;
                 }
                 if entering.count_ones() <= SOLO {
-                    self.solo_closest(kernels, e.node, entering, q);
+                    q.solo(self, kernels, e.node, entering);
                     continue;
                 }
                 index = e.node;
@@ -312,13 +386,10 @@ impl Bvh {
         }
     }
 
-    /// The subtree of wide node `start` walked by each of the rays `lanes` alone.
+    /// The subtree of wide node `start` walked by each of the rays `rays` alone.
     #[inline(always)]
-    fn solo_closest<S: Kernels>(&self, kernels: S, start: u32, lanes: u32, q: &mut Closest) {
-        let mut each = lanes;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+    fn solo_closest<S: Kernels>(&self, kernels: S, start: u32, rays: u32, q: &mut Closest) {
+        for k in lanes(rays) {
             let (ray, ray4) = single_ray(q.rays, k);
             self.walk_closest::<S, { leaf_kinds::ALL }, ()>(
                 kernels,
@@ -352,10 +423,7 @@ impl Bvh {
                         break;
                     }
                     let (t, u, v, hit) = kernels.hits8(block, j, q.rays, &q.limits);
-                    let mut each = hit & entering;
-                    while each != 0 {
-                        let k = each.trailing_zeros() as usize;
-                        each &= each - 1;
+                    for k in lanes(hit & entering) {
                         q.nearest[k].offer(
                             Hit {
                                 t: t[k],
@@ -370,10 +438,7 @@ impl Bvh {
             }
             return;
         }
-        let mut each = entering;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(entering) {
             let (ray, ray4) = single_ray(q.rays, k);
             self.leaf_closest::<S, { leaf_kinds::ALL }, ()>(
                 kernels,

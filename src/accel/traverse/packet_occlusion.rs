@@ -3,21 +3,48 @@
 //! lets through) stopping for each ray at its first blocker, and for the packet once
 //! every ray is blocked.
 
-use super::octant::{farthest, Octant, Octants, PacketBoxes, ALL};
-use super::packet::{single_ray, Entry, PACKET_STACK, SOLO, TOGETHER};
-use super::wide::RayBoxes;
-use super::wide::{Kernels, Portable};
+use super::octant::ALL;
+use super::packet::{single_ray, PacketQuery, TOGETHER};
+use super::wide::{Kernels, Portable, RayBoxes};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
+use crate::math::lanes;
 
 /// An occlusion packet query under way.
 struct Shadow<'a> {
     rays: &'a Ray8,
-    boxes: PacketBoxes,
     t_max: &'a [f32; RAYS],
     /// The rays found blocked, as bits.
     blocked: u32,
+}
+
+impl PacketQuery for Shadow<'_> {
+    const ANY_HIT: bool = true;
+
+    #[inline(always)]
+    fn limits(&self) -> &[f32; RAYS] {
+        self.t_max
+    }
+
+    /// The rays not found blocked yet.
+    #[inline(always)]
+    fn looking(&self, rays: u32, _near: f32) -> u32 {
+        rays & !self.blocked
+    }
+
+    /// The rays the leaf blocks, recorded.
+    #[inline(always)]
+    fn leaf<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, first: usize, count: usize, entering: u32) -> u32 {
+        let blocked = bvh.leaf_any8(kernels, first, count, entering, self);
+        self.blocked |= blocked;
+        blocked
+    }
+
+    #[inline(always)]
+    fn solo<S: Kernels>(&mut self, bvh: &Bvh, kernels: S, start: u32, rays: u32) {
+        bvh.solo_any(kernels, start, rays, self);
+    }
 }
 
 impl Bvh {
@@ -47,20 +74,12 @@ impl Bvh {
         }
         let mut q = Shadow {
             rays,
-            boxes: PacketBoxes::new(rays),
             t_max,
             blocked: 0,
         };
         self.unbounded_any8(&mut q, active);
         let left = active & !q.blocked;
-        if left != 0 && !self.wide.is_empty() {
-            let mut octants = Octants::new(&q.boxes, left);
-            PACKET_STACK.with_borrow_mut(|stack| {
-                while let Some(octant) = octants.next(&q.boxes) {
-                    self.walk_octant_any(kernels, &octant, &mut q, &mut stack.0);
-                }
-            });
-        }
+        self.walk_packet(kernels, rays, &mut q, left);
         q.blocked
     }
 
@@ -71,10 +90,7 @@ impl Bvh {
         if unbounded.is_empty() {
             return;
         }
-        let mut each = active;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(active) {
             let ray = q.rays.ray(k);
             if unbounded
                 .iter()
@@ -85,73 +101,10 @@ impl Bvh {
         }
     }
 
-    /// The tree walk of the rays of `octant`, until each is blocked or has seen
-    /// every box it enters.
+    /// The subtree of wide node `start` walked by each of the rays `rays` alone.
     #[inline(always)]
-    fn walk_octant_any<S: Kernels>(&self, kernels: S, octant: &Octant, q: &mut Shadow, stack: &mut [Entry]) {
-        let mut sp = 0usize;
-        let mut index = 0u32;
-        let mut active = octant.lanes;
-        loop {
-            let node = &self.wide[index as usize];
-            count!(NODES, 1);
-            let mut lanes = match &octant.frustum {
-                Some(f) => kernels.frustum(node, f, farthest(q.t_max, active)).1,
-                None => ALL,
-            };
-            while lanes != 0 {
-                let lane = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
-                let entering = kernels.entered8(node, lane, &q.boxes, &octant.near, q.t_max) & active;
-                if entering == 0 {
-                    continue;
-                }
-                let count = node.count[lane] as usize;
-                if count == 0 {
-                    stack[sp] = Entry {
-                        node: node.child[lane],
-                        rays: entering,
-                        near: 0.0,
-                    };
-                    sp += 1;
-                    continue;
-                }
-                let blocked = self.leaf_any8(kernels, node.child[lane] as usize, count, entering, q);
-                q.blocked |= blocked;
-                active &= !blocked;
-                if active == 0 {
-                    // (Entries stacked for these rays only are skipped below.)
-                    break;
-                }
-            }
-            loop {
-                if sp == 0 {
-                    return;
-                }
-                sp -= 1;
-                let e = stack[sp];
-                let entering = e.rays & !q.blocked;
-                if entering == 0 {
-                    continue;
-                }
-                if entering.count_ones() <= SOLO {
-                    self.solo_any(kernels, e.node, entering, q);
-                    continue;
-                }
-                index = e.node;
-                active = entering;
-                break;
-            }
-        }
-    }
-
-    /// The subtree of wide node `start` walked by each of the rays `lanes` alone.
-    #[inline(always)]
-    fn solo_any<S: Kernels>(&self, kernels: S, start: u32, lanes: u32, q: &mut Shadow) {
-        let mut each = lanes;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+    fn solo_any<S: Kernels>(&self, kernels: S, start: u32, rays: u32, q: &mut Shadow) {
+        for k in lanes(rays) {
             let (ray, ray4) = single_ray(q.rays, k);
             let boxes = RayBoxes::new(&ray);
             let found =
@@ -190,10 +143,7 @@ impl Bvh {
             return entering & !left;
         }
         let mut blocked = 0;
-        let mut each = entering;
-        while each != 0 {
-            let k = each.trailing_zeros() as usize;
-            each &= each - 1;
+        for k in lanes(entering) {
             let (ray, ray4) = single_ray(q.rays, k);
             let found =
                 self.leaf_any::<S, { leaf_kinds::ALL }>(kernels, first, count, &ray, &ray4, q.t_max[k]);

@@ -11,7 +11,7 @@ use crate::accel::leaf::pack::{leaf_kinds, marked, with_kinds, CONE4_LEAF, SPHER
 use crate::accel::leaf::tri4::{nearest_lane, Block, Ray4, Tri4, LANES};
 use crate::accel::tally::{QueryCounts, Tally};
 use crate::geometry::Hit;
-use crate::math::Ray;
+use crate::math::{lanes, Ray};
 
 thread_local! {
     /// Each thread's traversal stack of (wide node, entry distance), reused across
@@ -107,10 +107,7 @@ impl Bvh {
                 let limit = nearest.limit;
                 let (t, mask) = kernels.entries(node, boxes, limit);
                 let leaves = mask & node.leaf_lanes();
-                let mut each = leaves;
-                while each != 0 {
-                    let lane = each.trailing_zeros() as usize;
-                    each &= each - 1;
+                for lane in lanes(leaves) {
                     if t[lane] < nearest.limit {
                         let count = node.count[lane] as usize;
                         self.leaf_closest::<S, KINDS, T>(
@@ -152,6 +149,8 @@ impl Bvh {
                             let base = sp - 1;
                             stack[sp] = child(near);
                             sp += 1;
+                            // (Not `for lane in lanes(inner)`: `inner` is not empty
+                            // here, and the loop tested at its end compiles shorter.)
                             while inner != 0 {
                                 stack[sp] = child(inner.trailing_zeros());
                                 sp += 1;
