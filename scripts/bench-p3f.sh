@@ -51,7 +51,7 @@ secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f\n", (b-a)/1e9}'; }
 
 # nffrt NAME SCENE [FLAGS...]: one whole-process run; appends wall seconds to
 # $work/NAME.times, CPU seconds (user + system) to $work/NAME.cpu and
-# load (read, parse, skybox decode) / build / render seconds to $work/NAME.stages.
+# load (read, parse, the skybox faces' headers) / build / render (the faces decoded) seconds to $work/NAME.stages.
 run_nffrt() {
     local name=$1 scene=$2 t0 t1; shift 2
     t0=$(now)
@@ -100,7 +100,7 @@ stage() { cut -d' ' -f"$2" "$work/$1.stages" | median; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a/b}'; }
 echo
 echo "P3F scenes, whole-process wall seconds, medians of $runs runs"
-echo "(in brackets: nffrt's load incl. skybox decode / build / render, POV-Ray's parse incl. skybox"
+echo "(in brackets: nffrt's load / build / render, its skybox decoded during the render, POV-Ray's parse incl. skybox"
 echo "decode / trace; CPU: user + system seconds of the whole process)"
 echo "| scene | nffrt wall (stages) | POV-Ray 3.7 wall (stages) | POV-Ray / nffrt, wall | CPU nffrt / POV-Ray | POV-Ray / nffrt, CPU |"
 echo "|---|---|---|---|---|---|"
