@@ -110,9 +110,16 @@ fn load_prepared(
     }
 }
 
+/// A `ValueError` when `NFFRT_SIMD` asks for kernels that do not exist or this CPU
+/// cannot run, as the command line refuses them (`nffrt::accel::simd`).
+fn check_kernels() -> PyResult<()> {
+    nffrt::accel::simd::requested().map(drop).map_err(value_error)
+}
+
 /// Reads, parses and prepares the scene file at `path`, without the GIL; Ctrl-C
 /// stops the parse.
 pub fn load(py: Python<'_>, path: PathBuf, format: Option<Format>) -> PyResult<PyScene> {
+    check_kernels()?;
     let format = format.unwrap_or_else(|| Format::of_path(&path));
     let prepared = without_gil(py, None, |cancel| {
         // Read here, so that a missing file raises the OSError subclass of its errno.
@@ -137,6 +144,7 @@ pub fn parse(
     format: Option<Format>,
     path: Option<PathBuf>,
 ) -> PyResult<PyScene> {
+    check_kernels()?;
     let bytes = text_bytes(text)?;
     let format = format.unwrap_or_else(|| path.as_deref().map_or(Format::Nff, Format::of_path));
     let name = path

@@ -6,6 +6,9 @@ gets past an ordinary exception (a Rust panic would surface as
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -75,6 +78,28 @@ def test_unreadable_files_are_os_errors(tmp_path: Path) -> None:
     (tmp_path / "sky.p3f").write_text("env nowhere\ns 0 0 0 1\n")
     with pytest.raises(OSError, match="nowhere"):
         nffrt.load(tmp_path / "sky.p3f")
+
+
+def test_unknown_kernels_in_nffrt_simd_are_a_value_error() -> None:
+    # The variable is read once per process: a fresh interpreter for each value.
+    code = (
+        "import nffrt\n"
+        "try:\n"
+        "    nffrt.parse('s 0 0 0 1\\n')\n"
+        "except ValueError as e:\n"
+        "    print('ValueError:', e)\n"
+        "else:\n"
+        "    print('parsed')\n"
+    )
+    def run(value: str) -> str:
+        env = dict(os.environ, NFFRT_SIMD=value)
+        done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        return done.stdout.strip()
+    assert run("avx512") == (
+        "ValueError: NFFRT_SIMD=avx512: unknown kernels; use auto, avx2 or portable "
+        "(nffrt's widest kernels are AVX2)"
+    )
+    assert run("portable") == "parsed"
 
 
 SCENE = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 16 12\nl 0 0 9\ns 0 0 0 1\n"

@@ -7,6 +7,7 @@ use std::sync::atomic::AtomicBool;
 use super::limits::SceneLimitArgs;
 use super::CliError;
 use nffrt::load::{load_cancellable, AssetMode, LoadError, LoadOptions, Loaded, Source};
+use nffrt::prepare::RenderScene;
 
 /// What a command needs of the files a scene names, and whether to fingerprint it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +59,13 @@ pub fn load_scene_cancellable(
         LoadError::TooLarge { .. } => CliError::scene(format!("{e} (--max-scene-bytes raises the limit)")),
         LoadError::Io { .. } | LoadError::Asset { .. } | LoadError::Cancelled => CliError::io(e.to_string()),
     })
+}
+
+/// Waits for the files `scene` names to be decoded (a skybox's faces are decoded while
+/// it renders): a face that could not be is an I/O error, as at load. Called after
+/// tracing, before anything traced is given out.
+pub fn decoded_assets(scene: &RenderScene) -> Result<(), CliError> {
+    scene.decode_assets().map_err(|e| CliError::io(e.to_string()))
 }
 
 /// Prints the scene's warnings to standard error, at most `limit` of them.

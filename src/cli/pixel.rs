@@ -4,7 +4,7 @@
 
 use std::io::Write;
 
-use super::load::{load_scene, print_warnings, Need};
+use super::load::{decoded_assets, load_scene, print_warnings, Need};
 use super::render::{prepare_options, resolve, RenderArgs};
 use super::CliError;
 use nffrt::prepare::prepare_with;
@@ -27,7 +27,7 @@ pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
     }
     let scene = prepare_with(loaded.scene, &loaded.assets, &prepare_options(args));
     let trace = trace_pixel(&scene, scene.view(), &opts, x, y);
-    scene.decode_assets().map_err(|e| CliError::io(e.to_string()))?;
+    decoded_assets(&scene)?;
     let mut out = std::io::stdout().lock();
     match write!(out, "{trace}").and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::RenderLimitArgs;
-use super::load::{load_scene, print_warnings, Need};
+use super::load::{decoded_assets, load_scene, print_warnings, Need};
 use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput, Named};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
@@ -312,7 +312,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     progress.finish();
     let (image, rays) =
         rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
-    scene.decode_assets().map_err(|e| CliError::io(e.to_string()))?;
+    decoded_assets(&scene)?;
     let render_s = t2.elapsed().as_secs_f64();
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];

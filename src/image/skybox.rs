@@ -132,10 +132,12 @@ impl Skybox {
     }
 
     /// Starts decoding every face on a thread of its own (faces a ray needs first
-    /// are decoded by that ray's thread).
+    /// are decoded by that ray's thread; without a thread, all of them are).
     pub fn decode_in_background(self: &Arc<Skybox>) {
         let sky = Arc::clone(self);
-        std::thread::spawn(move || sky.decode_all());
+        let _ = std::thread::Builder::new()
+            .name("skybox decode".into())
+            .spawn(move || sky.decode_all());
     }
 
     /// Decodes the faces not yet decoded (waiting for those under way): the first

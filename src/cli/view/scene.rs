@@ -17,7 +17,7 @@ use tokio::sync::broadcast;
 
 use super::protocol::Counts;
 use crate::cli::limits::SceneLimitArgs;
-use crate::cli::load::{load_scene_cancellable, Need};
+use crate::cli::load::{decoded_assets, load_scene_cancellable, Need};
 use crate::cli::CliError;
 use nffrt::load::Assets;
 use nffrt::prepare::{prepare, prepare_with, PrepareOptions, RenderScene};
@@ -105,7 +105,7 @@ impl Source {
         let scene = Arc::new(prepare(loaded.scene, &loaded.assets));
         // The skybox's faces decoded before the first frame, so that a broken one is
         // a failed load the page shows (the current scene stays).
-        scene.decode_assets().map_err(|e| CliError::io(e.to_string()))?;
+        decoded_assets(&scene)?;
         let info = scene.info();
         let warnings = info.warnings.iter().map(|w| w.to_string()).collect();
         let counts = Counts {
