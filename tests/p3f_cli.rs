@@ -59,6 +59,44 @@ fn each_axis_sees_the_centre_texel_of_its_face_in_the_picture() {
     }
 }
 
+/// `--stats-json` reports the CPU time the skybox's faces took to decode (they are
+/// decoded during the render, so it is not in `load_s`), and nothing without a skybox.
+#[test]
+fn stats_report_the_skybox_decode() {
+    let dir = scratch_dir("p3f_cli", "decode_stats");
+    write_skybox(&dir);
+    let stats = |text: &str| {
+        let path = dir.join("look.p3f");
+        std::fs::write(&path, text).unwrap();
+        let out = dir.join("look.png");
+        let run = nffrt(
+            &[
+                "render",
+                path.to_str().unwrap(),
+                "-q",
+                "--stats-json",
+                "-",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            b"",
+        );
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&run.stdout).unwrap()
+    };
+    let with = stats(&scene("1 0 0"));
+    let seconds = with["skybox_decode_s"].as_f64().unwrap();
+    assert!(seconds > 0.0 && seconds < 10.0, "{with}");
+    let without = stats(&scene("1 0 0").replace("env sky\n", ""));
+    assert_eq!(without["skybox"], false);
+    assert!(without.get("skybox_decode_s").is_none(), "{without}");
+}
+
 /// Writes `dir/look.p3f` looking along `look` and renders it to `out`.
 fn render_look(dir: &Path, look: &str, out: &Path) -> std::process::Output {
     let path = dir.join("look.p3f");

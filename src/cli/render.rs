@@ -324,13 +324,14 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 
     let wants_stats = args.stats || args.stats_json.is_some();
     let accel = wants_stats.then(|| pool.install(|| stats::accel_work(&scene, &opts, &region)));
-    let report = StatsReport::new(
+    let mut report = StatsReport::new(
         stats::settings(&opts, &region, threads, &info, skybox),
         scene.primitive_count(),
         accel,
         rays,
         [load_s, loaded.parse_s, build_s, render_s],
     );
+    report.skybox_decode_s = skybox.then(|| scene.background().decode_seconds());
     if let (Some(mut out), Some(path)) = (stats_out.take(), stats_file) {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;

@@ -189,6 +189,10 @@ pub struct StatsReport {
     pub render_s: f64,
     /// Millions of rays per second of render time.
     pub mrays_per_s: f64,
+    /// Seconds of CPU time spent decoding the skybox's faces (during the build and
+    /// the render, on a thread of their own or by the rays that needed them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skybox_decode_s: Option<f64>,
 }
 
 impl StatsReport {
@@ -212,6 +216,7 @@ impl StatsReport {
             build_s,
             render_s,
             mrays_per_s: rays.total_rays() as f64 / render_s.max(1e-9) / 1e6,
+            skybox_decode_s: None,
         }
     }
 
@@ -254,6 +259,12 @@ impl StatsReport {
             ),
             line("speed", &format!("{:.2} Mrays/s", self.mrays_per_s)),
         ]);
+        if let Some(seconds) = self.skybox_decode_s {
+            lines.push(line(
+                "skybox decode",
+                &format!("{seconds:.3} s of CPU during the build and render"),
+            ));
+        }
         lines.join("\n")
     }
 }

@@ -9,7 +9,9 @@
 //! the image. A texel's colour is its 8-bit value / 255 (no filtering, no gamma).
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
+use std::time::Instant;
 
 use crate::math::Vec3;
 
@@ -98,6 +100,8 @@ pub struct Skybox {
     texels: [OnceLock<Result<Vec<u8>, FaceError>>; 6],
     /// How to decode a face not yet decoded (`None`: all were given decoded).
     decoder: Option<FaceDecoder>,
+    /// Nanoseconds spent decoding, summed over the faces decoded so far.
+    decode_ns: AtomicU64,
 }
 
 impl std::fmt::Debug for Skybox {
@@ -117,6 +121,7 @@ impl Skybox {
             sizes: faces.each_ref().map(|f| (f.width, f.height)),
             texels: faces.map(|f| OnceLock::from(Ok(f.rgb))),
             decoder: None,
+            decode_ns: AtomicU64::new(0),
         }
     }
 
@@ -128,6 +133,7 @@ impl Skybox {
             sizes,
             texels: Default::default(),
             decoder: Some(decoder),
+            decode_ns: AtomicU64::new(0),
         }
     }
 
@@ -151,12 +157,23 @@ impl Skybox {
         Ok(())
     }
 
+    /// Seconds spent decoding the faces decoded so far, summed over the threads that
+    /// decoded them (a cost of CPU time; on other threads, part of it overlaps the
+    /// render).
+    pub fn decode_seconds(&self) -> f64 {
+        self.decode_ns.load(Ordering::Relaxed) as f64 * 1e-9
+    }
+
     /// Face `face`'s texels, decoded now if they were not yet.
     fn face(&self, face: CubeFace) -> &Result<Vec<u8>, FaceError> {
         let i = face as usize;
         self.texels[i].get_or_init(|| {
             let decoder = self.decoder.as_ref().expect("undecoded faces have a decoder");
-            let image = decoder(face)?;
+            let start = Instant::now();
+            let image = decoder(face);
+            let ns = u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            self.decode_ns.fetch_add(ns, Ordering::Relaxed);
+            let image = image?;
             if (image.width, image.height) != self.sizes[i] {
                 return Err(FaceError {
                     path: PathBuf::from(face.name()),
@@ -298,7 +315,7 @@ mod tests {
     /// reported by `decode_all`, the first in face order.
     #[test]
     fn lazy_faces_decode_once_and_report_the_first_failure() {
-        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::atomic::AtomicUsize;
         let calls = Arc::new(AtomicUsize::new(0));
         let counted = Arc::clone(&calls);
         let whole = labelled();

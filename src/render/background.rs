@@ -33,6 +33,15 @@ impl Background {
         }
     }
 
+    /// Seconds spent decoding the skybox's faces so far ([`Skybox::decode_seconds`];
+    /// zero without one).
+    pub fn decode_seconds(&self) -> f64 {
+        match self {
+            Background::Color(_) => 0.0,
+            Background::Skybox(sky) => sky.decode_seconds(),
+        }
+    }
+
     /// The colour seen along direction `d`.
     #[inline(always)]
     pub fn color(&self, d: Vec3) -> Vec3 {
