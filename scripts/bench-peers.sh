@@ -6,7 +6,7 @@
 #   scripts/bench-peers.sh [RUNS]         RUNS repetitions per figure (default 3)
 #   EMBREE_PY=/path/to/python             Python with embreex (default .bench-venv/bin/python)
 #   EMBREE_ISA=avx2                       Embree restricted to one instruction set (its
-#                                         `isa=` device setting, set by scripts/embree_isa.c),
+#                                         `isa=` device setting, set by scripts/embree_preload.c),
 #                                         e.g. to compare like with like on a CPU with AVX-512
 #                                         (nffrt's kernels are AVX2, picked at run time)
 #   NFFRT_SIMD=avx2|portable              nffrt's kernels (default auto; see docs/speed.md)
@@ -27,12 +27,16 @@ l2=$(getconf LEVEL2_CACHE_SIZE 2>/dev/null || echo 0)
 kernels=$("$nffrt" info "$shared/scenes/spd/tetra.nff" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['kernels'])")
 echo "== CPU: $cpu, L2 $((l2 / 1024)) KiB per core, $(nproc) threads; Embree ISA: ${EMBREE_ISA:-its default (the best this CPU has)}; nffrt kernels: $kernels (NFFRT_SIMD=${NFFRT_SIMD:-auto})"
 echo "== commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (with uncommitted changes)'), $(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg)"
-# Embree's instruction set pinned (EMBREE_ISA): a preloaded wrapper of rtcNewDevice.
+# Embree's instruction set pinned (EMBREE_ISA) and its robust mode for the native
+# packets (EMBREE_ROBUST=1): a preloaded wrapper of rtcNewDevice and rtcSetSceneFlags.
+preload=0
+gcc -O2 -shared -fPIC -o "$tmp/embree_preload.so" scripts/embree_preload.c -ldl && preload=1
 embree_env=()
 if [ -n "${EMBREE_ISA:-}" ]; then
-    gcc -O2 -shared -fPIC -o "$tmp/embree_isa.so" scripts/embree_isa.c -ldl
-    embree_env=(env EMBREE_ISA="$EMBREE_ISA" LD_PRELOAD="$tmp/embree_isa.so")
+    [ "$preload" = 1 ] || { echo "bench-peers: EMBREE_ISA needs gcc to build scripts/embree_preload.c" >&2; exit 1; }
+    embree_env=(env EMBREE_ISA="$EMBREE_ISA" LD_PRELOAD="$tmp/embree_preload.so")
 fi
+embree_robust_env=(env EMBREE_ISA="${EMBREE_ISA:-}" EMBREE_ROBUST=1 LD_PRELOAD="$tmp/embree_preload.so")
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 # "wall cpu" seconds of a command (cpu: user + system of it and its children).
@@ -133,18 +137,23 @@ if [ -x "$py" ]; then
     # Embree's own best on this machine: native C, no binding, 8-ray coherent packets
     # (needs Debian's libembree-dev; skipped without it).
     if gcc -O2 -o "$tmp/embree_native" "$shared/bench/embree_native.c" -lembree3 2>/dev/null; then
-        echo "== Embree native (C): single rays and coherent 8-ray packets, primary rays (Mrays/s, median of $runs)"
-        printf '%-18s %10s %10s %10s %14s\n' scene single packet8 nffrt nffrt-packet8
+        echo "== Embree native (C): single rays and coherent 8-ray packets, primary rays (Mrays/s, median of $runs; robust: Embree's RTC_SCENE_FLAG_ROBUST, a watertight triangle test as nffrt's, not its default)"
+        printf '%-18s %10s %10s %14s %10s %14s\n' scene single packet8 packet8-robust nffrt nffrt-packet8
         for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
             name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
             "${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
             e=$(for _ in $(seq "$runs"); do "${embree_env[@]}" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
             single=$(echo "$e" | tr ' ' '\n' | grep "^single_mrays=" | cut -d= -f2 | median)
             packet=$(echo "$e" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
+            robust=nan
+            if [ "$preload" = 1 ]; then
+                er=$(for _ in $(seq "$runs"); do "${embree_robust_env[@]}" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
+                robust=$(echo "$er" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
+            fi
             n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_primary.f32" --rays-only --repeat 10 | tail -1; done)
             ours=$(echo "$n" | tr ' ' '\n' | grep "^rays_mrays=" | cut -d= -f2 | median)
             ourp=$(echo "$n" | tr ' ' '\n' | grep "^rays_packet_mrays=" | cut -d= -f2 | median)
-            printf '%-18s %10.2f %10.2f %10.2f %14.2f\n' "$name" "$single" "$packet" "$ours" "$ourp"
+            printf '%-18s %10.2f %10.2f %14.2f %10.2f %14.2f\n' "$name" "$single" "$packet" "$robust" "$ours" "$ourp"
         done
     fi
 fi
