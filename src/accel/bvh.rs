@@ -2,7 +2,6 @@
 //! `accel::build` and `accel::leaf`, queried by `accel::traverse`.
 
 use super::build::collapse;
-use super::build::node::BvhNode;
 use super::build::sah::{self, Pack};
 use super::build::split::{self, Copies};
 use super::leaf::cone4::Cone4;
@@ -21,9 +20,8 @@ use rayon::prelude::*;
 /// (planes) kept beside it and tested linearly.
 #[derive(Clone, Debug)]
 pub struct Bvh {
-    /// The binary SAH tree (kept for statistics and validation).
-    pub(super) nodes: Vec<BvhNode>,
-    /// The same tree collapsed to 8-wide nodes, used by the queries. A leaf lane made
+    /// The binary SAH tree collapsed to 8-wide nodes, used by the queries (the binary
+    /// tree is dropped once collapsed). A leaf lane made
     /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`](super::leaf::pack::TRI4_LEAF)), one made only of
     /// packable spheres to [`Sphere4`] blocks (see [`SPHERE4_LEAF`](super::leaf::pack::SPHERE4_LEAF)), one made only of
     /// packable cones to [`Cone4`] blocks (see [`CONE4_LEAF`](super::leaf::pack::CONE4_LEAF)).
@@ -41,6 +39,7 @@ pub struct Bvh {
     /// primitive; `None` when every primitive is in the tree once.
     pub(super) copies: Option<Copies>,
     pub(super) data: GeometryData,
+    /// The wide tree's depth (root = 1).
     pub(super) depth: u32,
     /// The kinds of leaf the queries look for (see [`leaf_kinds`]): each set they
     /// dispatch on has a copy of them compiled without the other kinds' tests.
@@ -94,16 +93,20 @@ impl Bvh {
         let leaf_packs: Vec<Pack> = order.par_iter().map(|&i| packs[i as usize]).collect();
         let n_bounded = ordered.len();
         ordered.extend(unbounded);
-        let mut wide = if n_bounded > 0 {
-            collapse::collapse(&built.nodes, &leaf_packs).0
+        let (mut wide, depth) = if n_bounded > 0 {
+            collapse::collapse(&built.nodes, &leaf_packs)
         } else {
-            Vec::new()
+            (Vec::new(), 0)
         };
+        debug_assert!(
+            depth <= built.depth,
+            "the wide tree is no deeper than the binary one"
+        );
+        drop(built.nodes);
         let canonical = copies.as_ref().map(|c| c.canonical.as_slice());
         let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered, canonical);
         let kinds = leaf_kinds::copy_for(&wide);
         Bvh {
-            nodes: built.nodes,
             wide,
             tri4,
             sphere4,
@@ -112,7 +115,7 @@ impl Bvh {
             bounded: n_bounded,
             copies,
             data,
-            depth: built.depth,
+            depth,
             kinds,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
@@ -160,10 +163,5 @@ impl Bvh {
             return SimdLevel::Avx2;
         }
         SimdLevel::Portable
-    }
-
-    /// The flattened nodes (root at 0).
-    pub fn nodes(&self) -> &[BvhNode] {
-        &self.nodes
     }
 }

@@ -58,7 +58,7 @@ mod traverse;
 pub use aggregate::Aggregate;
 pub use build::node::BvhNode;
 pub use bvh::Bvh;
-pub use check::{BvhStats, WideStats};
+pub use check::BvhStats;
 pub use grid::{Grid, MAX_CELLS_PER_AXIS};
 pub use leaf::ray8::Ray8;
 pub use tally::{QueryCounts, Tally};

@@ -21,8 +21,8 @@ pub struct InfoArgs {
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
     pub json: bool,
-    /// Also build the BVH and print its statistics (nodes, leaves, depth, leaf sizes,
-    /// SAH cost, the 8-wide tree traversed, build time).
+    /// Also build the BVH and print the statistics of its 8-wide tree, the one traversed
+    /// (nodes, leaves, depth, leaf sizes, SAH cost, node visits per ray, build time).
     #[arg(long)]
     pub bvh: bool,
     /// Resource limits.
@@ -333,9 +333,10 @@ fn print_bvh(b: &BvhInfo) {
         outln!("  bounds      {lo:?} .. {hi:?}");
     }
     outln!(
-        "  nodes       {} ({}; the binary tree the wide one is collapsed from)",
+        "  nodes       {} 8-wide ({}), {:.1} of 8 lanes used per node",
         s.nodes,
-        count(s.leaves, "leaf", "leaves")
+        count(s.leaves, "leaf", "leaves"),
+        s.mean_lanes
     );
     outln!("  depth       {}", s.depth);
     outln!(
@@ -344,15 +345,10 @@ fn print_bvh(b: &BvhInfo) {
         s.mean_leaf,
         s.max_leaf
     );
-    outln!("  SAH cost    {:.2}", s.sah_cost);
-    let w = &s.wide;
     outln!(
-        "  wide tree   {} ({} leaf lanes), depth {}, {:.1} of 8 lanes used per node, {:.2} node visits per ray",
-        count(w.nodes, "node", "nodes"),
-        w.leaf_lanes,
-        w.depth,
-        w.mean_lanes,
-        w.expected_visits
+        "  SAH cost    {:.2} ({:.2} node visits per ray)",
+        s.sah_cost,
+        s.expected_visits
     );
     outln!("  build time  {:.1} ms", b.build_s * 1e3);
 }

@@ -13,7 +13,7 @@ use super::sah::{leaf_cost, Pack, Packs, TRAVERSAL_COST};
 use crate::accel::traverse::wide::{Node8, EMPTY, MAX, MIN, WIDTH};
 
 /// Most primitives in a leaf made by merging a subtree.
-const MAX_MERGED_LEAF: u32 = 16;
+pub(in crate::accel) const MAX_MERGED_LEAF: u32 = 16;
 
 /// How a binary node's subtree is given in `i` slots of a wide node.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -115,7 +115,7 @@ fn deep_trees_agree_with_brute_force() {
         cone(base, 0.04, base + point(1.5), 0.04);
     }
     let bvh = bvh_of(&scene);
-    assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+    assert!(bvh.stats().depth >= 3, "wide depth {}", bvh.stats().depth);
     let (split, whole) = (bvh.stats().references, bvh.stats().primitives);
     assert!(
         split >= whole + 50,
@@ -219,7 +219,7 @@ fn deep_trees_of_fewer_kinds_agree_with_brute_force() {
         (&spheres[..], leaf_kinds::SPHERES_AND_TRIANGLES),
     ] {
         let bvh = bvh_of(&scene_with(spheres, &tris));
-        assert!(bvh.stats().depth >= 8, "depth {}", bvh.stats().depth);
+        assert!(bvh.stats().depth >= 3, "wide depth {}", bvh.stats().depth);
         assert_eq!(bvh.kinds, kinds);
         assert_agrees_with_brute_force(&bvh, &mut point);
     }

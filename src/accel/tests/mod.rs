@@ -3,6 +3,7 @@
 //! rays (`brute`), and the traversal's corner cases: packets, ties, rays in faces
 //! and through shared edges (`edges`).
 
+use super::build::collapse::MAX_MERGED_LEAF;
 use super::leaf::pack::leaf_kinds;
 use super::{Bvh, NO_HINT};
 use crate::geometry::build_geometry;
@@ -91,7 +92,7 @@ fn coincident_primitives_still_build_a_valid_shallow_tree() {
     let bvh = bvh_of(&scene_with(&spheres, &[]));
     let st = bvh.stats();
     assert!(st.depth <= 12, "depth {}", st.depth);
-    assert!(st.max_leaf as usize <= crate::accel::build::sah::MAX_LEAF);
+    assert!(st.max_leaf <= MAX_MERGED_LEAF);
 }
 
 /// Four unit cubes 10 apart along x. By hand: root area 2(31 + 31 + 1) = 126, each
@@ -257,20 +258,9 @@ fn parallel_build_equals_sequential_build_exactly() {
     }
 }
 
-/// Everything the queries read of `bvh`, as bits: the binary and wide nodes, and
-/// each leaf-order entry's box (which tells the primitive order).
-fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
-    let binary = bvh
-        .nodes
-        .iter()
-        .flat_map(|n| {
-            n.min
-                .into_iter()
-                .chain(n.max)
-                .map(f32::to_bits)
-                .chain([n.first, n.count])
-        })
-        .collect();
+/// Everything the queries read of `bvh`, as bits: the wide nodes, and each leaf-order
+/// entry's box (which tells the primitive order).
+fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>) {
     let wide = bvh
         .wide
         .iter()
@@ -287,7 +277,7 @@ fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
         })
         .flatten()
         .collect();
-    (binary, wide, entries)
+    (wide, entries)
 }
 
 /// A scene of every packable kind, big enough for the builder's parallel passes:
@@ -342,33 +332,35 @@ fn the_tree_is_the_same_on_any_number_of_threads() {
                 pool.install(|| tree_bits(&bvh_of(scene)))
             })
             .into();
-        assert!(trees[0].2.len() > 90_000, "{} entries", trees[0].2.len() / 6);
+        assert!(trees[0].1.len() > 90_000, "{} entries", trees[0].1.len() / 6);
         assert!(trees[1] == trees[0], "two threads against one");
         assert!(trees[2] == trees[0], "four threads against one");
     }
 }
 
-/// `info --bvh`'s wide-tree figures agree with the tree's shape: every wide node but
-/// the root fills one lane of its parent, a leaf lane holds one binary leaf or more,
-/// the wide tree is no deeper than the binary one, and the root (which every ray
-/// entering the tree visits) counts 1 toward the expected visits; no tree, no figures.
+/// `info --bvh`'s figures agree with the wide tree's shape: every node but the root
+/// fills one lane of its parent, every entry is in one leaf lane, a leaf holds at
+/// most the collapse's largest merged leaf, and the root (which every ray entering
+/// the tree visits) counts 1 toward the expected visits, which the SAH cost
+/// includes; no tree, no figures.
 #[test]
-fn the_wide_tree_statistics_count_its_nodes_and_lanes() {
+fn the_tree_statistics_count_its_nodes_and_lanes() {
     assert_eq!(
-        bvh_of(&Scene::default()).stats().wide,
-        crate::accel::WideStats::default()
+        bvh_of(&Scene::default()).stats(),
+        crate::accel::BvhStats::default()
     );
     let spheres: Vec<_> = (0..512)
         .map(|i| (Vec3::new(i as f32 * 3.0, (i % 7) as f32, 0.0), 0.5))
         .collect();
     let st = bvh_of(&scene_with(&spheres, &[])).stats();
-    let w = &st.wide;
-    assert!(w.nodes > 1, "{w:?}");
-    let lanes = (w.mean_lanes * w.nodes as f64).round() as usize;
-    assert_eq!(lanes, w.nodes - 1 + w.leaf_lanes, "{w:?}");
-    assert!(w.leaf_lanes <= st.leaves && w.depth <= st.depth, "{st:?}");
+    assert!(st.nodes > 1 && st.depth > 1, "{st:?}");
+    let lanes = (st.mean_lanes * st.nodes as f64).round() as usize;
+    assert_eq!(lanes, st.nodes - 1 + st.leaves, "{st:?}");
+    assert_eq!((st.mean_leaf * st.leaves as f64).round() as usize, 512, "{st:?}");
+    assert!(st.min_leaf >= 1 && st.max_leaf <= MAX_MERGED_LEAF, "{st:?}");
     assert!(
-        w.expected_visits >= 1.0 && w.expected_visits <= w.nodes as f64,
-        "{w:?}"
+        st.expected_visits >= 1.0 && st.expected_visits <= st.nodes as f64,
+        "{st:?}"
     );
+    assert!(st.sah_cost > st.expected_visits, "{st:?}");
 }
