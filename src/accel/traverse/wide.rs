@@ -240,3 +240,27 @@ impl Kernels for Portable {
         rays.entered(node, lane, near, limits)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// By hand: `inv` is `1 / dir` per axis, an infinity of the direction's sign on an
+    /// axis it runs parallel to (a component below `TINY_DIR`, zero included, `-0.0`
+    /// negative), and the near side is the upper one where `inv` is negative.
+    #[test]
+    fn ray_boxes_take_the_inverse_direction_and_its_signs() {
+        let inf = f32::INFINITY;
+        for (dir, inv, near) in [
+            (Vec3::new(2.0, -4.0, 0.5), [0.5, -0.25, 2.0], [MIN, MAX, MIN]),
+            (Vec3::new(0.0, -1.0, 1.0), [inf, -1.0, 1.0], [MIN, MAX, MIN]),
+            (Vec3::new(-0.0, 1e-31, -1e-31), [-inf, inf, -inf], [MAX, MIN, MAX]),
+            (Vec3::new(-1.0, 0.0, -0.0), [-1.0, inf, -inf], [MAX, MIN, MAX]),
+        ] {
+            let r = RayBoxes::new(&Ray::new(Vec3::new(1.0, 2.0, 3.0), dir));
+            assert_eq!(r.origin, [1.0, 2.0, 3.0]);
+            assert_eq!(r.inv, inv, "{dir:?}");
+            assert_eq!(r.near, near, "{dir:?}");
+        }
+    }
+}
