@@ -21,10 +21,11 @@ use rayon::prelude::*;
 #[derive(Clone, Debug)]
 pub struct Bvh {
     /// The binary SAH tree collapsed to 8-wide nodes, used by the queries (the binary
-    /// tree is dropped once collapsed). A leaf lane made
-    /// only of triangles refers to [`Tri4`] blocks (see [`TRI4_LEAF`](super::leaf::pack::TRI4_LEAF)), one made only of
-    /// packable spheres to [`Sphere4`] blocks (see [`SPHERE4_LEAF`](super::leaf::pack::SPHERE4_LEAF)), one made only of
-    /// packable cones to [`Cone4`] blocks (see [`CONE4_LEAF`](super::leaf::pack::CONE4_LEAF)).
+    /// tree is dropped once collapsed). A leaf lane made only of triangles refers to
+    /// [`Tri4`] blocks (see [`TRI4_LEAF`](super::leaf::pack::TRI4_LEAF)), one made
+    /// only of packable spheres to [`Sphere4`] blocks (see
+    /// [`SPHERE4_LEAF`](super::leaf::pack::SPHERE4_LEAF)), one made only of packable
+    /// cones to [`Cone4`] blocks (see [`CONE4_LEAF`](super::leaf::pack::CONE4_LEAF)).
     pub(super) wide: Vec<Node8>,
     /// The triangles of all-triangle leaves, four to a block, in leaf order.
     pub(super) tri4: Vec<Tri4>,

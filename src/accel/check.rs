@@ -260,6 +260,7 @@ impl Bvh {
         })
     }
 }
+
 /// The primitive indices of `blocks`' lanes (`u32::MAX` for unused ones).
 fn block_prims<B: Block>(blocks: &[B]) -> Vec<u32> {
     blocks.iter().flat_map(|b| *b.prims()).collect()

@@ -1,8 +1,8 @@
 //! The builder: primitives' boxes to a binary SAH tree (`sah`, working on the
 //! records of `binning`), long thin cones entered as several pieces (`split`), and
 //! the binary tree (`node`) collapsed into the 8-wide nodes the queries walk
-//! (`collapse`; the BVH keeps only those). The biggest nodes' passes over their items run on several threads
-//! (`parallel`).
+//! (`collapse`; the BVH keeps only those). The biggest nodes' passes over their
+//! items run on several threads (`parallel`).
 
 pub(super) mod binning;
 pub(super) mod collapse;
