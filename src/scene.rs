@@ -458,7 +458,7 @@ pub struct Scene {
 }
 
 /// What remains of a [`Scene`] once its primitives are in a render-time structure
-/// ([`crate::prepare`]): its settings, lights and materials as parsed, and a summary
+/// ([`crate::prepare()`]): its settings, lights and materials as parsed, and a summary
 /// of its primitives. `nffrt info`, `--stats`, the viewer and the Python bindings
 /// report from it.
 #[derive(Clone, Debug, PartialEq)]

@@ -26,7 +26,7 @@
 //! edge's value stays a function of the edge and the ray alone (a triangle whose
 //! other edge was zero would otherwise see a shared edge in `f64` and its neighbour
 //! in `f32`, possibly with opposite signs). Lanes with a zero go through the same
-//! scalar recomputation ([`exact_lanes`], from [`watertight_exact`]).
+//! scalar recomputation (`exact_lanes`, from `watertight_exact`).
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 

@@ -34,7 +34,7 @@ pub enum CubeFace {
 }
 
 impl CubeFace {
-    /// Every face, in the order of [`Skybox::faces`].
+    /// Every face, in the order a [`Skybox`] keeps them.
     pub const ALL: [CubeFace; 6] = [
         CubeFace::Right,
         CubeFace::Left,

@@ -86,7 +86,8 @@ pub(super) fn parse_in_one_pass(src: &[u8], format: Format, limits: &Limits) -> 
     parse_in_one_pass_with(src, format, limits, None)
 }
 
-/// [`parse_in_one_pass`], polling `cancel` between entities.
+/// [`parse_format`] on the calling thread, token after token, polling `cancel`
+/// between entities.
 fn parse_in_one_pass_with(
     src: &[u8],
     format: Format,

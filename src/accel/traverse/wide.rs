@@ -26,7 +26,7 @@ pub const WIDTH: usize = 8;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct Node8 {
-    /// Box corners, `[side][axis][lane]`: side [`MIN`] the lower corners, [`MAX`]
+    /// Box corners, `[side][axis][lane]`: side `MIN` (0) the lower corners, `MAX` (1)
     /// the upper ones.
     pub bounds: [[[f32; WIDTH]; 3]; 2],
     /// Child node index or first primitive, per lane.
@@ -148,7 +148,7 @@ impl Node8 {
 
     /// Entry distance of `ray` into each lane's box, and a mask with bit `i` set when
     /// the ray meets lane `i`'s box within `[0, t_max]` (misses and empty lanes have
-    /// no bit). The exit, `t_max` included, is stretched by [`FAR_SCALE`], so a box
+    /// no bit). The exit, `t_max` included, is stretched by `FAR_SCALE`, so a box
     /// entered that little past `t_max` counts too: the callers cull by distance
     /// again before they test a leaf or visit a child.
     #[inline(always)]
@@ -160,7 +160,7 @@ impl Node8 {
 
     /// The lanes whose boxes `ray` enters within `[0, t_max]`, as bits: the test of
     /// [`Node8::entries`] for queries that need no distances, with the exit
-    /// stretched by [`FAR_SCALE`] plane by plane rather than at the end (the same
+    /// stretched by `FAR_SCALE` plane by plane rather than at the end (the same
     /// guarantee), which keeps the multiplication off the test's critical path:
     /// occlusion ran 6–11 % faster so than with [`Node8::entries`]' one
     /// multiplication at the end, while closest hit, which keeps more values in
