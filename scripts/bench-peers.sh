@@ -139,15 +139,18 @@ if [ -x "$py" ]; then
     if gcc -O2 -o "$tmp/embree_native" "$shared/bench/embree_native.c" -lembree3 2>/dev/null; then
         echo "== Embree native (C): single rays and coherent 8-ray packets, primary rays (Mrays/s, median of $runs; robust: Embree's RTC_SCENE_FLAG_ROBUST, a watertight triangle test as nffrt's, not its default)"
         printf '%-18s %10s %10s %14s %10s %14s\n' scene single packet8 packet8-robust nffrt nffrt-packet8
+        # $runs summary lines of embree_native on $name's primary rays, run under "$@"
+        # (an `env ...` prefix, or nothing).
+        native() { for _ in $(seq "$runs"); do "$@" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done; }
         for s in p3d/mount_very_high spd/tetra spd/teapot spd/gears; do
             name=${s#*/}; extra=(); [ "$name" = gears ] && extra=(--triangulate ear)
             "${embree_env[@]}" "$py" "$shared/bench/embree_anchor.py" "$shared/scenes/$s.nff" --repeat 1 "${extra[@]}" --dump-rays "$tmp" --dump-tris "$tmp" >/dev/null 2>&1
-            e=$(for _ in $(seq "$runs"); do "${embree_env[@]}" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
+            e=$(native "${embree_env[@]}")
             single=$(echo "$e" | tr ' ' '\n' | grep "^single_mrays=" | cut -d= -f2 | median)
             packet=$(echo "$e" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
             robust=nan
             if [ "$preload" = 1 ]; then
-                er=$(for _ in $(seq "$runs"); do "${embree_robust_env[@]}" "$tmp/embree_native" "$tmp/${name}_tris.f32" "$tmp/${name}_primary.f32" --repeat 10 --packet 8 --coherent 2>/dev/null | tail -1; done)
+                er=$(native "${embree_robust_env[@]}")
                 robust=$(echo "$er" | tr ' ' '\n' | grep "^packet8_mrays=" | cut -d= -f2 | median)
             fi
             n=$(for _ in $(seq "$runs"); do "$nffrt" bench "$shared/scenes/$s.nff" --rays "$tmp/${name}_primary.f32" --rays-only --repeat 10 | tail -1; done)
