@@ -45,6 +45,24 @@ pub trait Integrator: Sync {
         ctx: &mut TraceContext,
         rec: &mut R,
     ) -> Vec3;
+
+    /// The radiances of a packet of neighbouring eye rays `rays[i]` of samples
+    /// `ids[i]`, whose closest hits are `found[i]`, given in order to
+    /// `done(i, radiance)`: bit for bit what [`Integrator::eye_radiance`] gives each
+    /// (unrecorded), with the same ray counts. The default takes them one at a time;
+    /// a method may trace rays of different eye rays together.
+    fn eye_radiances(
+        &self,
+        rays: &[Ray],
+        found: &[Option<(Hit, u32)>],
+        ids: &[SampleId],
+        ctx: &mut TraceContext,
+        mut done: impl FnMut(usize, Vec3),
+    ) {
+        for (i, ((ray, &found), id)) in rays.iter().zip(found).zip(ids).enumerate() {
+            done(i, self.eye_radiance(ray, found, id, ctx, &mut NoRecord));
+        }
+    }
 }
 
 /// The integrator of one render: chosen once from the render's options and the
@@ -93,6 +111,22 @@ impl Integrator for ChosenIntegrator<'_> {
             ChosenIntegrator::WhittedSpd(w) => w.eye_radiance(ray, found, id, ctx, rec),
             ChosenIntegrator::WhittedP3f(w) => w.eye_radiance(ray, found, id, ctx, rec),
             ChosenIntegrator::Path(p) => p.eye_radiance(ray, found, id, ctx, rec),
+        }
+    }
+
+    #[inline]
+    fn eye_radiances(
+        &self,
+        rays: &[Ray],
+        found: &[Option<(Hit, u32)>],
+        ids: &[SampleId],
+        ctx: &mut TraceContext,
+        done: impl FnMut(usize, Vec3),
+    ) {
+        match self {
+            ChosenIntegrator::WhittedSpd(w) => w.eye_radiances(rays, found, ids, ctx, done),
+            ChosenIntegrator::WhittedP3f(w) => w.eye_radiances(rays, found, ids, ctx, done),
+            ChosenIntegrator::Path(p) => p.eye_radiances(rays, found, ids, ctx, done),
         }
     }
 }

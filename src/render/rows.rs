@@ -15,7 +15,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::camera::{Camera, CameraSample};
-use super::integrator::{ChosenIntegrator, Integrator, NoRecord, Recorder, TraceContext};
+use super::integrator::{ChosenIntegrator, Integrator, Recorder, TraceContext};
 use super::sampling::{PixelSampler, SampleId};
 use super::{Observer, RenderOptions, Stats};
 use crate::accel::PACKET;
@@ -125,11 +125,11 @@ impl<'a> Frame<'a> {
         for (c, (packet, ids)) in rays.chunks(PACKET).zip(ids.chunks(PACKET)).enumerate() {
             let hits = &mut hits[..packet.len()];
             self.scene.accel().closest_hit_packet(packet, f32::INFINITY, hits);
-            for (i, ((ray, &found), id)) in packet.iter().zip(hits.iter()).zip(ids).enumerate() {
-                ctx.stats.eye_rays += 1;
-                let radiance = self.integrator.eye_radiance(ray, found, id, ctx, &mut NoRecord);
-                done(c * PACKET + i, finite_or_black(radiance));
-            }
+            ctx.stats.eye_rays += packet.len() as u64;
+            self.integrator
+                .eye_radiances(packet, hits, ids, ctx, |i, radiance| {
+                    done(c * PACKET + i, finite_or_black(radiance))
+                });
         }
     }
 

@@ -16,7 +16,7 @@ use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
 use super::shade::{local, Branch, Facets, Rules};
 use crate::accel::Ray8;
-use crate::geometry::{point_error, Hit};
+use crate::geometry::{point_error, Hit, Primitive};
 use crate::math::{Ray, Vec3};
 use crate::prepare::RenderScene;
 use crate::scene::Material;
@@ -99,22 +99,36 @@ impl<'a, M: Rules> Whitted<'a, M> {
         ctx: &mut TraceContext,
         rec: &mut R,
     ) -> Vec3 {
-        let scene = self.scene;
         let Some((hit, index)) = found else {
-            if R::ENABLED {
-                let (color, texel) = scene.background().look(ray.dir);
-                rec.miss(ray, color, texel);
-                return color;
-            }
-            return scene.background().color(ray.dir);
+            return self.missed(ray, rec);
         };
+        let at = self.surface_at(ray, depth, &hit, index, ctx);
+        self.shade_at(ray, depth, &at, medium, id, ctx, rec)
+    }
+
+    /// The background seen by a ray that hits nothing, reported to `rec`.
+    #[inline(always)]
+    fn missed<R: Recorder>(&self, ray: &Ray, rec: &mut R) -> Vec3 {
+        if R::ENABLED {
+            let (color, texel) = self.scene.background().look(ray.dir);
+            rec.miss(ray, color, texel);
+            return color;
+        }
+        self.scene.background().color(ray.dir)
+    }
+
+    /// The surface `ray` (at ray-tree depth `depth`) meets at `hit` on primitive
+    /// `index`, counted as a hit of its depth.
+    #[inline(always)]
+    fn surface_at(&self, ray: &Ray, depth: u32, hit: &Hit, index: u32, ctx: &mut TraceContext) -> At<'a> {
         if depth == 1 {
             ctx.stats.eye_hits += 1;
         } else {
             ctx.stats.secondary_hits += 1;
         }
+        let scene = self.scene;
         let prim = scene.primitive(index);
-        let surface = prim.surface(ray, &hit, scene.accel().data());
+        let surface = prim.surface(ray, hit, scene.accel().data());
         let m = &scene.materials()[prim.material as usize];
         let p = surface.point;
         // Turn the normals to face the incoming ray; `entering` says whether the ray
@@ -129,6 +143,45 @@ impl<'a, M: Rules> Whitted<'a, M> {
         // ray's side (shadow and mirror rays) or the far side (refracted rays).
         let offset = prim.origin_offset(&surface, point_error(p, ray, hit.t));
         let above = if entering { p + offset } else { p - offset };
+        At {
+            prim,
+            m,
+            t: hit.t,
+            p,
+            n,
+            ns,
+            entering,
+            offset,
+            above,
+        }
+    }
+
+    /// The colour seen along `ray` (at ray-tree depth `depth`, through `medium`) at
+    /// surface `at`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn shade_at<R: Recorder>(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        at: &At,
+        medium: Option<Vec3>,
+        id: &SampleId,
+        ctx: &mut TraceContext,
+        rec: &mut R,
+    ) -> Vec3 {
+        let scene = self.scene;
+        let At {
+            prim,
+            m,
+            p,
+            n,
+            ns,
+            entering,
+            offset,
+            above,
+            ..
+        } = *at;
         let diffuse = m.color * m.kd;
         let lighting = scene.lighting();
         let mut color = lighting.ambient.mul_elem(diffuse);
@@ -139,12 +192,12 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
         // What is left of the light on its way back through the medium (unit
         // directions: t is the distance).
-        let left = medium.map(|sigma| beer_lambert(sigma, hit.t));
+        let left = medium.map(|sigma| beer_lambert(sigma, at.t));
         if R::ENABLED {
             let record = HitRecord {
                 depth,
                 primitive: prim,
-                t: hit.t,
+                t: at.t,
                 point: p,
                 normal: n,
                 shading_normal: ns,
@@ -156,7 +209,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             rec.hit(ray, &record);
         }
         // Made where each light uses it: kept live across the loop it ties up registers.
-        let at = || Lit {
+        let lit_at = || Lit {
             m,
             diffuse,
             above,
@@ -168,10 +221,10 @@ impl<'a, M: Rules> Whitted<'a, M> {
         };
         for (k, light) in lighting.lights.iter().enumerate() {
             if light.area.is_some() {
-                color += self.area_light(k, light, &at(), id, ctx, rec);
+                color += self.area_light(k, light, &lit_at(), id, ctx, rec);
                 continue;
             }
-            let outcome = self.light_point(k, light.position, light.intensity, at(), ctx);
+            let outcome = self.light_point(k, light.position, light.intensity, lit_at(), ctx);
             if R::ENABLED {
                 rec.light(k, outcome);
             }
@@ -314,7 +367,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         ctx: &mut TraceContext,
     ) -> LightOutcome {
         let to_light = point - at.above;
-        if behind(&at, to_light) {
+        if behind(at.n, to_light) {
             return LightOutcome::Behind;
         }
         ctx.stats.shadow_rays += 1;
@@ -355,7 +408,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         for (k, (ray, &point)) in rays.iter_mut().zip(points).enumerate() {
             // As `light_point` aims it (no ray for a point behind the surface).
             let to_light = point - at.above;
-            if !behind(at, to_light) {
+            if !behind(at.n, to_light) {
                 active |= 1 << k;
             }
             *ray = Ray::with_time(at.above, to_light, at.time);
@@ -383,11 +436,32 @@ impl<'a, M: Rules> Whitted<'a, M> {
     }
 }
 
-/// Whether a point of light `to_light` away from a hit lies behind its surface (no
-/// shadow ray is traced to it).
+/// Whether a point of light `to_light` away from a hit, whose geometric normal
+/// facing the ray is `n`, lies behind its surface (no shadow ray is traced to it).
 #[inline(always)]
-fn behind(at: &Lit, to_light: Vec3) -> bool {
-    at.n.dot(to_light) <= 0.0
+fn behind(n: Vec3, to_light: Vec3) -> bool {
+    n.dot(to_light) <= 0.0
+}
+
+/// The surface a ray meets, as shading sees it.
+#[derive(Clone, Copy)]
+struct At<'a> {
+    prim: &'a Primitive,
+    m: &'a Material,
+    /// Distance along the ray.
+    t: f32,
+    /// The hit point.
+    p: Vec3,
+    /// Geometric normal facing the ray.
+    n: Vec3,
+    /// Shading normal facing the ray.
+    ns: Vec3,
+    /// True if the ray crosses the surface against the primitive's own normal.
+    entering: bool,
+    /// How far secondary rays start off the surface.
+    offset: Vec3,
+    /// Shadow and mirror rays' origin, off the surface on the ray's side.
+    above: Vec3,
 }
 
 /// The local term of a point of light `to_light` away from a hit it reaches unblocked.
