@@ -147,6 +147,10 @@ pub struct TraceContext {
     /// that last blocked a shadow ray (`Bvh::occluded_hinted`). It only changes what
     /// is tested first, never an answer.
     hints: [Cell<u32>; HINT_LIGHTS * HINT_DEPTHS],
+    /// Bit `k` set: the shadow rays of point light `k` from a packet of eye hits go
+    /// one at a time through the shadow cache rather than as a packet (see
+    /// `Whitted::eye_shadows`). Only changes how the answers are found.
+    pub(super) eye_shadows_cached: u32,
 }
 
 impl Default for TraceContext {
@@ -154,6 +158,7 @@ impl Default for TraceContext {
         TraceContext {
             stats: Stats::default(),
             hints: [const { Cell::new(NO_HINT) }; HINT_LIGHTS * HINT_DEPTHS],
+            eye_shadows_cached: 0,
         }
     }
 }

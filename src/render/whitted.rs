@@ -9,15 +9,17 @@
 
 use std::marker::PhantomData;
 
-use super::integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, Recorder, TraceContext};
+use super::integrator::{
+    AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext, HINT_LIGHTS,
+};
 use super::light::{LightSampling, LightSource};
 use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
 use super::shade::{local, Branch, Facets, Rules};
-use crate::accel::Ray8;
+use crate::accel::{Ray8, PACKET};
 use crate::geometry::{point_error, Hit, Primitive};
-use crate::math::{Ray, Vec3};
+use crate::math::{lanes, Ray, Vec3};
 use crate::prepare::RenderScene;
 use crate::scene::Material;
 
@@ -49,6 +51,45 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
         rec: &mut R,
     ) -> Vec3 {
         self.shade(ray, 1, found, None, id, ctx, rec)
+    }
+
+    /// With the point lights' shadow rays from the packet's hits traced as packets
+    /// ([`Whitted::eye_shadows`]), when the scene allows packets.
+    fn eye_radiances(
+        &self,
+        rays: &[Ray],
+        found: &[Option<(Hit, u32)>],
+        ids: &[SampleId],
+        ctx: &mut TraceContext,
+        mut done: impl FnMut(usize, Vec3),
+    ) {
+        debug_assert!(rays.len() <= PACKET && rays.len() == found.len() && rays.len() == ids.len());
+        let mut ats = [None; PACKET];
+        for ((at, ray), found) in ats.iter_mut().zip(rays).zip(found) {
+            *at = found.map(|(hit, index)| self.surface_at(ray, 1, &hit, index, ctx));
+        }
+        let ats = &ats[..rays.len()];
+        let shadows = if self.packets {
+            self.eye_shadows(rays, ats, ctx)
+        } else {
+            EyeShadows {
+                lights: 0,
+                blocked: [0; PACKET_LIGHTS],
+            }
+        };
+        for (lane, ((ray, at), id)) in rays.iter().zip(ats).zip(ids).enumerate() {
+            let radiance = match at {
+                None => self.missed(ray, &mut NoRecord),
+                Some(at) => {
+                    let known = EyeLane {
+                        shadows: &shadows,
+                        lane,
+                    };
+                    self.shade_at(ray, 1, at, None, &known, id, ctx, &mut NoRecord)
+                }
+            };
+            done(lane, radiance);
+        }
     }
 }
 
@@ -103,7 +144,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             return self.missed(ray, rec);
         };
         let at = self.surface_at(ray, depth, &hit, index, ctx);
-        self.shade_at(ray, depth, &at, medium, id, ctx, rec)
+        self.shade_at(ray, depth, &at, medium, &NoneKnown, id, ctx, rec)
     }
 
     /// The background seen by a ray that hits nothing, reported to `rec`.
@@ -157,7 +198,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
     }
 
     /// The colour seen along `ray` (at ray-tree depth `depth`, through `medium`) at
-    /// surface `at`.
+    /// surface `at`, with the point lights `known` tells of already traced.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn shade_at<R: Recorder>(
@@ -166,6 +207,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         depth: u32,
         at: &At,
         medium: Option<Vec3>,
+        known: &impl KnownShadows,
         id: &SampleId,
         ctx: &mut TraceContext,
         rec: &mut R,
@@ -224,7 +266,10 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 color += self.area_light(k, light, &lit_at(), id, ctx, rec);
                 continue;
             }
-            let outcome = self.light_point(k, light.position, light.intensity, lit_at(), ctx);
+            let outcome = match known.blocked(k) {
+                Some(blocked) => point_outcome::<M>(&lit_at(), light.position, light.intensity, blocked),
+                None => self.light_point(k, light.position, light.intensity, lit_at(), ctx),
+            };
             if R::ENABLED {
                 rec.light(k, outcome);
             }
@@ -388,6 +433,58 @@ impl<'a, M: Rules> Whitted<'a, M> {
         lit::<M>(&at, to_light, intensity)
     }
 
+    /// The shadows of the point lights on the hits of a packet of eye rays (`ats[i]`
+    /// the surface eye ray `rays[i]` meets, if any): for each point light, its
+    /// shadow rays from the hits it is not behind, counted as
+    /// [`Whitted::light_point`] counts them, traced as one packet where the last
+    /// packet of them was all lit, else one at a time through the shadow cache
+    /// until a packet's worth is all lit again. A packet walks a lit region's
+    /// coherent rays faster than one ray at a time (SPD tree: 4 % of its shadow
+    /// rays blocked, 8.6 % fewer instructions), but in shadow the cache, which
+    /// tries the last blocker first, is faster (SPD balls: 30 % blocked, 3.5 % more
+    /// instructions with packets alone).
+    fn eye_shadows(&self, rays: &[Ray], ats: &[Option<At>], ctx: &mut TraceContext) -> EyeShadows {
+        let lights = &self.scene.lighting().lights;
+        let mut shadows = EyeShadows {
+            lights: lights.len().min(PACKET_LIGHTS),
+            blocked: [0; PACKET_LIGHTS],
+        };
+        for (k, light) in lights.iter().enumerate().take(shadows.lights) {
+            if light.area.is_some() {
+                continue;
+            }
+            let mut shadow_rays = [rays[0]; PACKET];
+            let mut active = 0u32;
+            for (i, (ray, at)) in rays.iter().zip(ats).enumerate() {
+                let Some(at) = at else { continue };
+                // As `light_point` aims it.
+                let to_light = light.position - at.above;
+                if !behind(at.n, to_light) {
+                    active |= 1 << i;
+                    shadow_rays[i] = Ray::with_time(at.above, to_light, ray.time);
+                }
+            }
+            if active == 0 {
+                continue;
+            }
+            let accel = self.scene.accel();
+            let cached = ctx.eye_shadows_cached >> k & 1 != 0;
+            let blocked = match ctx.hint(k, 1) {
+                Some(hint) if cached => lanes(active)
+                    .filter(|&i| accel.occluded_hinted(&shadow_rays[i], 1.0, hint))
+                    .fold(0, |bits, i| bits | 1 << i),
+                _ => accel.occluded8(&Ray8::new(&shadow_rays[..rays.len()]), &[1.0; PACKET], active),
+            };
+            if k < HINT_LIGHTS {
+                ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
+            }
+            ctx.stats.shadow_rays += u64::from(active.count_ones());
+            ctx.stats.shadow_blocked += u64::from(blocked.count_ones());
+            shadows.blocked[k] = blocked;
+        }
+        shadows
+    }
+
     /// Up to [`SHADOW_PACKET`] points of one light, each of the given intensity, seen
     /// from a hit: [`Whitted::light_point`]'s outcome of each, given in order to
     /// `outcome(point, outcome)`, their shadow rays traced as one packet.
@@ -441,6 +538,66 @@ impl<'a, M: Rules> Whitted<'a, M> {
 #[inline(always)]
 fn behind(n: Vec3, to_light: Vec3) -> bool {
     n.dot(to_light) <= 0.0
+}
+
+/// [`Whitted::light_point`]'s outcome for a point light at `point` whose shadow ray
+/// from the hit `at` was traced beforehand (`blocked` its answer; unused when the
+/// light is behind the surface, whose shadow ray is never traced).
+#[inline(always)]
+fn point_outcome<M: Rules>(at: &Lit, point: Vec3, intensity: Vec3, blocked: bool) -> LightOutcome {
+    let to_light = point - at.above;
+    if behind(at.n, to_light) {
+        LightOutcome::Behind
+    } else if blocked {
+        LightOutcome::Shadowed
+    } else {
+        lit::<M>(at, to_light, intensity)
+    }
+}
+
+/// Point lights (the first of a scene's lights) whose shadow rays from a packet of
+/// eye hits are traced together ([`Whitted::eye_shadows`]); later ones, one ray at a
+/// time.
+const PACKET_LIGHTS: usize = 16;
+
+/// What the first [`PACKET_LIGHTS`] point lights' shadow rays from a packet of eye
+/// hits found.
+struct EyeShadows {
+    /// Lights `0..lights` were traced (their point lights: area lights have their own
+    /// packets).
+    lights: usize,
+    /// Per light, bit `i` set when the shadow ray from eye hit `i` was blocked.
+    blocked: [u32; PACKET_LIGHTS],
+}
+
+/// The point lights whose shadow rays from one hit were traced beforehand.
+trait KnownShadows {
+    /// `Some(blocked)` for point light `k` if its shadow ray was traced (`blocked`
+    /// meaningless when the light is behind the surface), `None` to trace it now.
+    fn blocked(&self, k: usize) -> Option<bool>;
+}
+
+/// No shadow ray traced beforehand.
+struct NoneKnown;
+
+impl KnownShadows for NoneKnown {
+    #[inline(always)]
+    fn blocked(&self, _k: usize) -> Option<bool> {
+        None
+    }
+}
+
+/// The shadows [`EyeShadows`] found for eye hit `lane`.
+struct EyeLane<'s> {
+    shadows: &'s EyeShadows,
+    lane: usize,
+}
+
+impl KnownShadows for EyeLane<'_> {
+    #[inline(always)]
+    fn blocked(&self, k: usize) -> Option<bool> {
+        (k < self.shadows.lights).then(|| self.shadows.blocked[k] >> self.lane & 1 != 0)
+    }
 }
 
 /// The surface a ray meets, as shading sees it.
@@ -536,7 +693,7 @@ mod packet_tests {
     use crate::nff::{parse_format, Format};
     use crate::prepare::prepare;
     use crate::render::integrator::NoRecord;
-    use crate::render::shade::P3fRules;
+    use crate::render::shade::{P3fRules, SpdRules};
     use crate::render::{Camera, RenderOptions};
 
     /// Two quad lights (4 x 4 and 3 x 3 points: packets of eight, and a last one of
@@ -580,5 +737,65 @@ mod packet_tests {
         }
         assert_eq!(a.stats, b.stats);
         assert!(a.stats.shadow_blocked > 0 && a.stats.shadow_blocked < a.stats.shadow_rays);
+    }
+
+    /// Ten point lights (more than have a shadow-cache slot) over a mirror ball and a
+    /// glass ball on a floor, in NFF; one light below the floor (behind every hit on
+    /// it), one inside the mirror ball (blocked from everywhere but its inside).
+    const POINT_LIGHTS: &str = "v\nfrom 2.1 1.3 1.7\nat 0 0 0\nup 0 0 1\nangle 45\nhither 0.01\n\
+        resolution 40 30\nb 0.1 0.3 0.7\n\
+        l 4 3 2\nl -3 4 4\nl 0 0 -3\nl 0.1 0 0\nl 1 -4 3\nl -4 -1 1\nl 2 2 5\nl -1 3 2\nl 3 -2 1\nl 0 5 1\n\
+        f 1 0.75 0.33 0.8 0 10 0 1\np 4 12 12 -0.5 -12 12 -0.5 -12 -12 -0.5 12 -12 -0.5\n\
+        f 0.9 0.9 0.9 0.2 0.8 30 0 1\ns 0 0 0 0.5\n\
+        f 1 1 1 0.1 0.4 60 0.8 1.5\ns 0.64 0.17 0 0.17\ns 0.27 0.27 0.54 0.17\n";
+
+    /// Each eye ray's colour and the ray counts are the same, bit for bit, with the
+    /// point lights' shadow rays from a packet of eye hits traced together (as a
+    /// packet or through the shadow cache) or each eye ray shaded alone, under the
+    /// SPD's rules and the P3F course's.
+    #[test]
+    fn eye_packets_shade_as_one_eye_ray_at_a_time() {
+        let scene = parse_format(POINT_LIGHTS.as_bytes(), Format::Nff, &Default::default()).unwrap();
+        let scene = prepare(scene, &Assets::default());
+        let plan = LightSampling {
+            grid_override: None,
+            soft_shadows: true,
+        };
+        let camera = Camera::new(scene.view(), &RenderOptions::from_view(scene.view()));
+        let spd = Whitted::<SpdRules>::new(&scene, plan, 5, true);
+        let p3f = Whitted::<P3fRules>::new(&scene, plan, 5, true);
+        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
+        let (mut a, mut b) = (TraceContext::default(), TraceContext::default());
+        for y in 0..30 {
+            for xs in (0..40).collect::<Vec<u32>>().chunks(PACKET) {
+                let rays: Vec<Ray> = xs
+                    .iter()
+                    .map(|&x| camera.ray_at(x as f32 + 0.5, y as f32 + 0.5))
+                    .collect();
+                let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
+                let found: Vec<_> = rays
+                    .iter()
+                    .map(|r| scene.accel().closest_hit(r, f32::INFINITY))
+                    .collect();
+                let mut together = Vec::new();
+                spd.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
+                p3f.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
+                let mut alone = Vec::new();
+                for (i, ((ray, &found), id)) in rays.iter().zip(&found).zip(&ids).enumerate() {
+                    alone.push((i, bits(spd.eye_radiance(ray, found, id, &mut b, &mut NoRecord))));
+                }
+                for (i, ((ray, &found), id)) in rays.iter().zip(&found).zip(&ids).enumerate() {
+                    alone.push((i, bits(p3f.eye_radiance(ray, found, id, &mut b, &mut NoRecord))));
+                }
+                assert_eq!(together, alone, "row {y}, columns {xs:?}");
+            }
+        }
+        assert_eq!(a.stats, b.stats);
+        let blocked = a.stats.shadow_blocked;
+        assert!(
+            blocked > 0 && blocked < a.stats.shadow_rays / 2,
+            "{blocked} of {}",
+            a.stats.shadow_rays
+        );
     }
 }
