@@ -30,9 +30,11 @@ pub struct Whitted<'a, M: Rules> {
     max_depth: u32,
     /// False: every surface smooth.
     roughness: bool,
-    /// Area lights' points traced as packets of shadow rays ([`SHADOW_PACKET`]); false
-    /// with moving geometry, which keeps one shadow ray at a time (the packet queries
-    /// carry ray times, but their tests cover static scenes only).
+    /// Shadow rays traced as packets: an area light's points seen from one hit
+    /// ([`SHADOW_PACKET`] at a time), a point light seen from a packet of eye hits
+    /// ([`Whitted::eye_shadows`]). Each ray keeps its own time, at which the packet
+    /// queries see moving spheres. False only in tests that compare with one ray at
+    /// a time.
     packets: bool,
     rules: PhantomData<fn() -> M>,
 }
@@ -54,7 +56,7 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
     }
 
     /// With the point lights' shadow rays from the packet's hits traced as packets
-    /// ([`Whitted::eye_shadows`]), when the scene allows packets.
+    /// ([`Whitted::eye_shadows`]), when the render traces packets.
     fn eye_radiances(
         &self,
         rays: &[Ray],
@@ -107,7 +109,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
             light_sampling,
             max_depth,
             roughness,
-            packets: !scene.info().has_moving_spheres(),
+            packets: true,
             rules: PhantomData,
         }
     }
@@ -797,5 +799,70 @@ mod packet_tests {
             "{blocked} of {}",
             a.stats.shadow_rays
         );
+    }
+
+    /// A quad light and two point lights over balls on a floor, two of the balls
+    /// moving across the shutter (one through another ball's shadow).
+    const MOVING: &str = "spp 0\nbclr 0.1 0.3 0.7\nshutter 0 1\n\
+        camera\neye 2.1 1.3 1.7\nat 0 0 0\nup 0 0 1\nangle 45\nhither 0.01\nresolution 32 24\n\
+        light quad 4 3 2 1 1 1 4 2 2 3 3 2 3\nl 1 -4 4 1 1 1\nl -3 1 5 1 1 1\n\
+        mat 1 0.75 0.33 1 1 1 0.8 0 10 0 1\npl 12 12 -0.5 -12 12 -0.5 -12 -12 -0.5\n\
+        mat 1 0.9 0.7 0.5 1 1 1 0.5 30 0 1\ns 0 0 0 0.5\n\
+        sm 0.64 -0.6 -0.3 0.64 0.6 -0.3 0.2 0 1\nsm -0.7 0.5 0.2 -0.2 0.5 0.2 0.15 0.2 0.8\n";
+
+    /// With moving spheres, each eye ray at its own time: the colours and ray counts
+    /// of packets of eye rays, their shadow rays in packets (each ray at its eye
+    /// ray's time), are those of one eye ray at a time with one shadow ray at a time.
+    #[test]
+    fn moving_spheres_in_packets_shade_as_one_ray_at_a_time() {
+        let scene = parse_format(MOVING.as_bytes(), Format::P3f, &Default::default()).unwrap();
+        let scene = prepare(scene, &Assets::default());
+        assert!(scene.info().has_moving_spheres());
+        let plan = LightSampling {
+            grid_override: None,
+            soft_shadows: true,
+        };
+        let packets = Whitted::<P3fRules>::new(&scene, plan, 4, true);
+        assert!(packets.packets);
+        let single = Whitted {
+            packets: false,
+            ..Whitted::<P3fRules>::new(&scene, plan, 4, true)
+        };
+        let camera = Camera::new(scene.view(), &RenderOptions::from_view(scene.view()));
+        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
+        let (mut a, mut b) = (TraceContext::default(), TraceContext::default());
+        for y in 0..24 {
+            for xs in (0..32).collect::<Vec<u32>>().chunks(PACKET) {
+                let rays: Vec<Ray> = xs
+                    .iter()
+                    .map(|&x| {
+                        let r = camera.ray_at(x as f32 + 0.5, y as f32 + 0.5);
+                        Ray::with_time(r.origin, r.dir, ((x * 7 + y * 3) % 11) as f32 / 10.0)
+                    })
+                    .collect();
+                let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
+                let found: Vec<_> = rays
+                    .iter()
+                    .map(|r| scene.accel().closest_hit(r, f32::INFINITY))
+                    .collect();
+                let mut together = Vec::new();
+                packets.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
+                let alone: Vec<_> = rays
+                    .iter()
+                    .zip(&found)
+                    .zip(&ids)
+                    .enumerate()
+                    .map(|(i, ((ray, &found), id))| {
+                        (
+                            i,
+                            bits(single.eye_radiance(ray, found, id, &mut b, &mut NoRecord)),
+                        )
+                    })
+                    .collect();
+                assert_eq!(together, alone, "row {y}, columns {xs:?}");
+            }
+        }
+        assert_eq!(a.stats, b.stats);
+        assert!(a.stats.shadow_blocked > 0 && a.stats.shadow_blocked < a.stats.shadow_rays / 2);
     }
 }

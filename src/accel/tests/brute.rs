@@ -228,9 +228,11 @@ fn deep_trees_of_fewer_kinds_agree_with_brute_force() {
 /// Moving spheres (tested alone, at each ray's time) among still spheres and
 /// triangles, their own times inside a shutter of [0.2, 0.9]: rays at random times,
 /// inside the shutter and outside it (where the spheres stand at its ends), single,
-/// in packets of mixed times and for occlusion, find what the scan finds.
+/// in packets of mixed times and for occlusion (single and in packets), find what
+/// the scan finds.
 #[test]
 fn moving_spheres_agree_with_brute_force_at_any_time() {
+    use crate::accel::leaf::ray8::{Ray8, RAYS};
     use crate::geometry::SourceKind;
     use crate::scene::MovingSphere;
     let mut time = uniform(0x3c6e_f372_fe94_f82b);
@@ -303,6 +305,27 @@ fn moving_spheres_agree_with_brute_force_at_any_time() {
             assert_eq!(*got, bvh.closest_hit_linear(r, f32::INFINITY), "time {}", r.time);
         }
     }
+    // Shadow packets of eight rays from one point with mixed times, per-ray limits
+    // and lanes left out: each active ray blocked exactly when the scan finds
+    // something before its limit.
+    let (mut blocked, mut moving_blockers) = (0, 0);
+    for (p, packet) in fan.chunks(RAYS).enumerate() {
+        let limits: [f32; RAYS] = std::array::from_fn(|k| [8.0, 30.0, 45.0, f32::INFINITY][(k + p) % 4]);
+        let active = if p % 3 == 0 { 0b1011_0111 } else { 0xff } & ((1 << packet.len()) - 1);
+        let got = bvh.occluded8(&Ray8::new(packet), &limits, active);
+        for (k, r) in packet.iter().enumerate() {
+            let first = bvh.closest_hit_linear(r, limits[k]);
+            let want = active >> k & 1 != 0 && first.is_some();
+            assert_eq!(got >> k & 1 != 0, want, "packet {p}, ray {k}, time {}", r.time);
+            blocked += usize::from(want);
+            let moving = first.is_some_and(|(_, i)| bvh.primitive(i).kind == SourceKind::MovingSphere);
+            moving_blockers += usize::from(want && moving);
+        }
+    }
+    assert!(
+        blocked > 300 && moving_blockers > 150,
+        "{blocked} shadow rays blocked, {moving_blockers} first by a moving sphere: the test would be too weak"
+    );
 }
 
 /// 3000 rays between random points of `point(scale)`: closest hits (hit and
