@@ -55,8 +55,8 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
         self.shade(ray, 1, found, None, id, ctx, rec)
     }
 
-    /// With the point lights' shadow rays from the packet's hits traced as packets
-    /// ([`Whitted::eye_shadows`]), when the render traces packets.
+    /// With the point lights' shadow rays from the packet's hits traced together
+    /// (`Whitted::eye_shadows`).
     fn eye_radiances(
         &self,
         rays: &[Ray],
@@ -698,6 +698,84 @@ mod packet_tests {
     use crate::render::shade::{P3fRules, SpdRules};
     use crate::render::{Camera, RenderOptions};
 
+    /// `text`, a scene in `format`, prepared to render.
+    fn scene_of(text: &str, format: Format) -> RenderScene {
+        prepare(
+            parse_format(text.as_bytes(), format, &Default::default()).unwrap(),
+            &Assets::default(),
+        )
+    }
+
+    /// Each area light's own grid of points, soft shadows.
+    const SOFT: LightSampling = LightSampling {
+        grid_override: None,
+        soft_shadows: true,
+    };
+
+    /// A closest hit and the primitive's index, if any.
+    type Found = Option<(Hit, u32)>;
+
+    /// The eye rays through the centres of pixels `xs` of row `y`, each at time
+    /// `time(x)`, their samples and their closest hits.
+    fn eye_packet(
+        scene: &RenderScene,
+        camera: &Camera,
+        y: u32,
+        xs: &[u32],
+        time: impl Fn(u32) -> f32,
+    ) -> (Vec<Ray>, Vec<SampleId>, Vec<Found>) {
+        let rays: Vec<Ray> = xs
+            .iter()
+            .map(|&x| {
+                let r = camera.ray_at(x as f32 + 0.5, y as f32 + 0.5);
+                Ray::with_time(r.origin, r.dir, time(x))
+            })
+            .collect();
+        let ids = xs.iter().map(|&x| SampleId::single(x, y)).collect();
+        let found = rays
+            .iter()
+            .map(|r| scene.accel().closest_hit(r, f32::INFINITY))
+            .collect();
+        (rays, ids, found)
+    }
+
+    /// Eye rays' colours as bits, each with the ray's place in its packet.
+    type Shaded = Vec<(usize, [u32; 3])>;
+
+    /// The colours `w` gives eye rays `rays` (samples `ids`, closest hits `found`) as
+    /// one packet (`together`), or each eye ray shaded alone.
+    fn shaded<M: Rules>(
+        w: &Whitted<M>,
+        rays: &[Ray],
+        found: &[Found],
+        ids: &[SampleId],
+        ctx: &mut TraceContext,
+        together: bool,
+    ) -> Shaded {
+        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
+        let mut shaded = Vec::new();
+        if together {
+            w.eye_radiances(rays, found, ids, ctx, |i, c| shaded.push((i, bits(c))));
+            return shaded;
+        }
+        for (i, ((ray, &found), id)) in rays.iter().zip(found).zip(ids).enumerate() {
+            shaded.push((i, bits(w.eye_radiance(ray, found, id, ctx, &mut NoRecord))));
+        }
+        shaded
+    }
+
+    /// Whitted under the P3F rules down to depth 4, tracing shadow rays in packets,
+    /// and the same one shadow ray at a time.
+    fn with_and_without_packets(scene: &RenderScene) -> (Whitted<'_, P3fRules>, Whitted<'_, P3fRules>) {
+        let packets = Whitted::<P3fRules>::new(scene, SOFT, 4, true);
+        assert!(packets.packets);
+        let single = Whitted {
+            packets: false,
+            ..Whitted::<P3fRules>::new(scene, SOFT, 4, true)
+        };
+        (packets, single)
+    }
+
     /// Two quad lights (4 x 4 and 3 x 3 points: packets of eight, and a last one of
     /// one) over balls on a floor, partly shadowed, mirrors for deeper hits.
     const SCENE: &str = "spp 0\nbclr 0.1 0.3 0.7\n\
@@ -710,18 +788,8 @@ mod packet_tests {
     /// lights' shadow rays traced as packets or one by one.
     #[test]
     fn area_lights_in_packets_shade_as_one_ray_at_a_time() {
-        let scene = parse_format(SCENE.as_bytes(), Format::P3f, &Default::default()).unwrap();
-        let scene = prepare(scene, &Assets::default());
-        let plan = LightSampling {
-            grid_override: None,
-            soft_shadows: true,
-        };
-        let packets = Whitted::<P3fRules>::new(&scene, plan, 4, true);
-        assert!(packets.packets);
-        let single = Whitted {
-            packets: false,
-            ..Whitted::<P3fRules>::new(&scene, plan, 4, true)
-        };
+        let scene = scene_of(SCENE, Format::P3f);
+        let (packets, single) = with_and_without_packets(&scene);
         let camera = Camera::new(scene.view(), &RenderOptions::from_view(scene.view()));
         let (mut a, mut b) = (TraceContext::default(), TraceContext::default());
         for y in 0..18 {
@@ -757,38 +825,18 @@ mod packet_tests {
     /// SPD's rules and the P3F course's.
     #[test]
     fn eye_packets_shade_as_one_eye_ray_at_a_time() {
-        let scene = parse_format(POINT_LIGHTS.as_bytes(), Format::Nff, &Default::default()).unwrap();
-        let scene = prepare(scene, &Assets::default());
-        let plan = LightSampling {
-            grid_override: None,
-            soft_shadows: true,
-        };
+        let scene = scene_of(POINT_LIGHTS, Format::Nff);
         let camera = Camera::new(scene.view(), &RenderOptions::from_view(scene.view()));
-        let spd = Whitted::<SpdRules>::new(&scene, plan, 5, true);
-        let p3f = Whitted::<P3fRules>::new(&scene, plan, 5, true);
-        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
+        let spd = Whitted::<SpdRules>::new(&scene, SOFT, 5, true);
+        let p3f = Whitted::<P3fRules>::new(&scene, SOFT, 5, true);
         let (mut a, mut b) = (TraceContext::default(), TraceContext::default());
         for y in 0..30 {
             for xs in (0..40).collect::<Vec<u32>>().chunks(PACKET) {
-                let rays: Vec<Ray> = xs
-                    .iter()
-                    .map(|&x| camera.ray_at(x as f32 + 0.5, y as f32 + 0.5))
-                    .collect();
-                let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
-                let found: Vec<_> = rays
-                    .iter()
-                    .map(|r| scene.accel().closest_hit(r, f32::INFINITY))
-                    .collect();
-                let mut together = Vec::new();
-                spd.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
-                p3f.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
-                let mut alone = Vec::new();
-                for (i, ((ray, &found), id)) in rays.iter().zip(&found).zip(&ids).enumerate() {
-                    alone.push((i, bits(spd.eye_radiance(ray, found, id, &mut b, &mut NoRecord))));
-                }
-                for (i, ((ray, &found), id)) in rays.iter().zip(&found).zip(&ids).enumerate() {
-                    alone.push((i, bits(p3f.eye_radiance(ray, found, id, &mut b, &mut NoRecord))));
-                }
+                let (rays, ids, found) = eye_packet(&scene, &camera, y, xs, |_| 0.0);
+                let mut together = shaded(&spd, &rays, &found, &ids, &mut a, true);
+                together.extend(shaded(&p3f, &rays, &found, &ids, &mut a, true));
+                let mut alone = shaded(&spd, &rays, &found, &ids, &mut b, false);
+                alone.extend(shaded(&p3f, &rays, &found, &ids, &mut b, false));
                 assert_eq!(together, alone, "row {y}, columns {xs:?}");
             }
         }
@@ -815,50 +863,17 @@ mod packet_tests {
     /// ray's time), are those of one eye ray at a time with one shadow ray at a time.
     #[test]
     fn moving_spheres_in_packets_shade_as_one_ray_at_a_time() {
-        let scene = parse_format(MOVING.as_bytes(), Format::P3f, &Default::default()).unwrap();
-        let scene = prepare(scene, &Assets::default());
+        let scene = scene_of(MOVING, Format::P3f);
         assert!(scene.info().has_moving_spheres());
-        let plan = LightSampling {
-            grid_override: None,
-            soft_shadows: true,
-        };
-        let packets = Whitted::<P3fRules>::new(&scene, plan, 4, true);
-        assert!(packets.packets);
-        let single = Whitted {
-            packets: false,
-            ..Whitted::<P3fRules>::new(&scene, plan, 4, true)
-        };
+        let (packets, single) = with_and_without_packets(&scene);
         let camera = Camera::new(scene.view(), &RenderOptions::from_view(scene.view()));
-        let bits = |c: Vec3| c.to_array().map(f32::to_bits);
         let (mut a, mut b) = (TraceContext::default(), TraceContext::default());
         for y in 0..24 {
             for xs in (0..32).collect::<Vec<u32>>().chunks(PACKET) {
-                let rays: Vec<Ray> = xs
-                    .iter()
-                    .map(|&x| {
-                        let r = camera.ray_at(x as f32 + 0.5, y as f32 + 0.5);
-                        Ray::with_time(r.origin, r.dir, ((x * 7 + y * 3) % 11) as f32 / 10.0)
-                    })
-                    .collect();
-                let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
-                let found: Vec<_> = rays
-                    .iter()
-                    .map(|r| scene.accel().closest_hit(r, f32::INFINITY))
-                    .collect();
-                let mut together = Vec::new();
-                packets.eye_radiances(&rays, &found, &ids, &mut a, |i, c| together.push((i, bits(c))));
-                let alone: Vec<_> = rays
-                    .iter()
-                    .zip(&found)
-                    .zip(&ids)
-                    .enumerate()
-                    .map(|(i, ((ray, &found), id))| {
-                        (
-                            i,
-                            bits(single.eye_radiance(ray, found, id, &mut b, &mut NoRecord)),
-                        )
-                    })
-                    .collect();
+                let time = |x: u32| ((x * 7 + y * 3) % 11) as f32 / 10.0;
+                let (rays, ids, found) = eye_packet(&scene, &camera, y, xs, time);
+                let together = shaded(&packets, &rays, &found, &ids, &mut a, true);
+                let alone = shaded(&single, &rays, &found, &ids, &mut b, false);
                 assert_eq!(together, alone, "row {y}, columns {xs:?}");
             }
         }
