@@ -9,9 +9,7 @@
 
 use std::marker::PhantomData;
 
-use super::integrator::{
-    AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext, HINT_LIGHTS,
-};
+use super::integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext};
 use super::light::{LightSampling, LightSource};
 use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
@@ -71,14 +69,7 @@ impl<M: Rules> Integrator for Whitted<'_, M> {
             *at = found.map(|(hit, index)| self.surface_at(ray, 1, &hit, index, ctx));
         }
         let ats = &ats[..rays.len()];
-        let shadows = if self.packets {
-            self.eye_shadows(rays, ats, ctx)
-        } else {
-            EyeShadows {
-                lights: 0,
-                blocked: [0; PACKET_LIGHTS],
-            }
-        };
+        let shadows = self.eye_shadows(rays, ats, ctx);
         for (lane, ((ray, at), id)) in rays.iter().zip(ats).zip(ids).enumerate() {
             let radiance = match at {
                 None => self.missed(ray, &mut NoRecord),
@@ -445,10 +436,15 @@ impl<'a, M: Rules> Whitted<'a, M> {
     /// rays blocked, 8.6 % fewer instructions), but in shadow the cache, which
     /// tries the last blocker first, is faster (SPD balls: 30 % blocked, 3.5 % more
     /// instructions with packets alone).
+    /// None are traced when the render traces no packets.
     fn eye_shadows(&self, rays: &[Ray], ats: &[Option<At>], ctx: &mut TraceContext) -> EyeShadows {
         let lights = &self.scene.lighting().lights;
         let mut shadows = EyeShadows {
-            lights: lights.len().min(PACKET_LIGHTS),
+            lights: if self.packets {
+                lights.len().min(PACKET_LIGHTS)
+            } else {
+                0
+            },
             blocked: [0; PACKET_LIGHTS],
         };
         for (k, light) in lights.iter().enumerate().take(shadows.lights) {
@@ -470,6 +466,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 continue;
             }
             let accel = self.scene.accel();
+            // (A light without a shadow-cache slot always goes as a packet.)
             let cached = ctx.eye_shadows_cached >> k & 1 != 0;
             let blocked = match ctx.hint(k, 1) {
                 Some(hint) if cached => lanes(active)
@@ -477,9 +474,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
                     .fold(0, |bits, i| bits | 1 << i),
                 _ => accel.occluded8(&Ray8::new(&shadow_rays[..rays.len()]), &[1.0; PACKET], active),
             };
-            if k < HINT_LIGHTS {
-                ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
-            }
+            ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
             ctx.stats.shadow_rays += u64::from(active.count_ones());
             ctx.stats.shadow_blocked += u64::from(blocked.count_ones());
             shadows.blocked[k] = blocked;
@@ -561,6 +556,9 @@ fn point_outcome<M: Rules>(at: &Lit, point: Vec3, intensity: Vec3, blocked: bool
 /// eye hits are traced together ([`Whitted::eye_shadows`]); later ones, one ray at a
 /// time.
 const PACKET_LIGHTS: usize = 16;
+
+// A bit per light in `TraceContext::eye_shadows_cached`.
+const _: () = assert!(PACKET_LIGHTS <= 32);
 
 /// What the first [`PACKET_LIGHTS`] point lights' shadow rays from a packet of eye
 /// hits found.
