@@ -117,18 +117,27 @@ pub(in crate::accel) fn pack_leaves(
     primitives: &[Primitive],
     canonical: Option<&[u32]>,
 ) -> Blocks {
-    let mut blocks = Blocks::default();
+    // The blocks of each kind counted first, so each array is allocated once.
+    let mut count = [0; 4];
+    for node in wide.iter() {
+        for lane in 0..WIDTH {
+            if let Some((kind, leaf)) = packed_leaf(node, lane, primitives) {
+                count[kind as usize] += leaf.len().div_ceil(LANES);
+            }
+        }
+    }
+    let mut blocks = Blocks {
+        tri4: Vec::with_capacity(count[Pack::Triangle as usize]),
+        sphere4: Vec::with_capacity(count[Pack::Sphere as usize]),
+        cone4: Vec::with_capacity(count[Pack::Cone as usize]),
+    };
+    let (mut triangles, mut spheres, mut cones) = (Vec::new(), Vec::new(), Vec::new());
     for node in wide.iter_mut() {
         for lane in 0..WIDTH {
-            let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
-            if count == 0 {
+            let Some((kind, leaf)) = packed_leaf(node, lane, primitives) else {
                 continue;
-            }
-            let leaf = &primitives[first..first + count];
-            let kind = pack_of(&leaf[0]);
-            if leaf.iter().any(|p| pack_of(p) != kind) {
-                continue;
-            }
+            };
+            let first = node.child[lane] as usize;
             let triangle = |s: &Shape| match s {
                 Shape::Triangle(t) => Some(*t),
                 _ => None,
@@ -141,18 +150,23 @@ pub(in crate::accel) fn pack_leaves(
                 Shape::Cone(c) => Some(*c),
                 _ => None,
             };
+            let leaf = Leaf {
+                primitives: leaf,
+                first,
+                canonical,
+            };
             let (range, mark) = match kind {
                 Pack::Alone => continue,
                 Pack::Triangle => (
-                    pack_into(leaf, first, canonical, triangle, Tri4::new, &mut blocks.tri4),
+                    leaf.pack(triangle, Tri4::new, &mut triangles, &mut blocks.tri4),
                     TRI4_LEAF,
                 ),
                 Pack::Sphere => (
-                    pack_into(leaf, first, canonical, sphere, Sphere4::new, &mut blocks.sphere4),
+                    leaf.pack(sphere, Sphere4::new, &mut spheres, &mut blocks.sphere4),
                     SPHERE4_LEAF,
                 ),
                 Pack::Cone => (
-                    pack_into(leaf, first, canonical, cone, Cone4::new, &mut blocks.cone4),
+                    leaf.pack(cone, Cone4::new, &mut cones, &mut blocks.cone4),
                     CONE4_LEAF,
                 ),
             };
@@ -160,34 +174,57 @@ pub(in crate::accel) fn pack_leaves(
             node.count[lane] = (mark | range.len()) as u32;
         }
     }
+    debug_assert_eq!(
+        [blocks.tri4.len(), blocks.sphere4.len(), blocks.cone4.len()],
+        [Pack::Triangle, Pack::Sphere, Pack::Cone].map(|k| count[k as usize])
+    );
     blocks
 }
 
-/// Appends to `out` the blocks (`make`, [`LANES`] shapes at most) of `leaf`, whose
-/// primitives are `first, first + 1, …` (reported as `canonical` maps them, if
-/// given) and all have the shape `shape` picks out; returns the range of the new
-/// blocks.
-fn pack_into<T, B>(
-    leaf: &[Primitive],
-    first: usize,
-    canonical: Option<&[u32]>,
-    shape: impl Fn(&Shape) -> Option<T>,
-    make: impl Fn(&[(T, u32)]) -> B,
-    out: &mut Vec<B>,
-) -> std::ops::Range<usize> {
-    let start = out.len();
-    let mut lanes = Vec::with_capacity(LANES);
-    for (chunk_index, chunk) in leaf.chunks(LANES).enumerate() {
-        lanes.clear();
-        for (k, p) in chunk.iter().enumerate() {
-            if let Some(t) = shape(&p.shape) {
-                let index = first + chunk_index * LANES + k;
-                lanes.push((t, canonical.map_or(index as u32, |c| c[index])));
-            }
-        }
-        out.push(make(&lanes));
+/// The primitives of leaf lane `lane` of `node` and their kind of block, when they
+/// all pack in blocks of one kind.
+fn packed_leaf<'a>(node: &Node8, lane: usize, primitives: &'a [Primitive]) -> Option<(Pack, &'a [Primitive])> {
+    let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
+    if count == 0 {
+        return None;
     }
-    start..out.len()
+    let leaf = &primitives[first..first + count];
+    let kind = pack_of(&leaf[0]);
+    (kind != Pack::Alone && leaf.iter().all(|p| pack_of(p) == kind)).then_some((kind, leaf))
+}
+
+/// A leaf to pack: its primitives, the first one's leaf-order index, and how the
+/// queries report leaf-order indices (`canonical`, if given).
+struct Leaf<'a> {
+    primitives: &'a [Primitive],
+    first: usize,
+    canonical: Option<&'a [u32]>,
+}
+
+impl Leaf<'_> {
+    /// Appends to `out` the blocks (`make`, [`LANES`] shapes at most, gathered in
+    /// `lanes`) of the leaf, whose primitives all have the shape `shape` picks out;
+    /// returns the range of the new blocks.
+    fn pack<T, B>(
+        &self,
+        shape: impl Fn(&Shape) -> Option<T>,
+        make: impl Fn(&[(T, u32)]) -> B,
+        lanes: &mut Vec<(T, u32)>,
+        out: &mut Vec<B>,
+    ) -> std::ops::Range<usize> {
+        let start = out.len();
+        for (chunk_index, chunk) in self.primitives.chunks(LANES).enumerate() {
+            lanes.clear();
+            for (k, p) in chunk.iter().enumerate() {
+                if let Some(t) = shape(&p.shape) {
+                    let index = self.first + chunk_index * LANES + k;
+                    lanes.push((t, self.canonical.map_or(index as u32, |c| c[index])));
+                }
+            }
+            out.push(make(lanes));
+        }
+        start..out.len()
+    }
 }
 
 /// The blocks of a leaf lane (`first`, `count` as in a [`Node8`]) when its count
