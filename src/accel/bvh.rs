@@ -8,6 +8,7 @@ use super::leaf::cone4::Cone4;
 use super::leaf::pack::{leaf_kinds, pack_leaves, pack_of, Blocks};
 use super::leaf::sphere4::Sphere4;
 use super::leaf::tri4::Tri4;
+use super::pages::huge_vec;
 use super::simd::SimdLevel;
 #[cfg(target_arch = "x86_64")]
 use super::traverse::avx::Avx;
@@ -69,10 +70,11 @@ impl Bvh {
         if !unbounded.is_empty() {
             bounded.retain(|p| p.bounds(&data).is_some());
         }
-        let bounds: Vec<Aabb> = bounded
+        let mut bounds: Vec<Aabb> = huge_vec(bounded.len());
+        bounded
             .par_iter()
             .map(|p| p.bounds(&data).expect("unbounded primitives set aside"))
-            .collect();
+            .collect_into_vec(&mut bounds);
         // Triangles and spheres are intersected several at a time (in blocks), which
         // the SAH knows.
         let packs: Vec<Pack> = bounded.par_iter().map(pack_of).collect();
@@ -89,7 +91,9 @@ impl Bvh {
             None => built.order,
         };
         drop(refs);
-        let mut ordered: Vec<Primitive> = order.par_iter().map(|&i| bounded[i as usize]).collect();
+        // The primitives in leaf order, then the unbounded ones.
+        let mut ordered: Vec<Primitive> = huge_vec(order.len() + unbounded.len());
+        order.par_iter().map(|&i| bounded[i as usize]).collect_into_vec(&mut ordered);
         drop(bounded);
         let leaf_packs: Vec<Pack> = order.par_iter().map(|&i| packs[i as usize]).collect();
         let n_bounded = ordered.len();

@@ -15,7 +15,8 @@
 //!   `occlusion`), the packets (`packet`) and the rule for ties (`nearest`).
 //!
 //! `bvh.rs` holds the structure and puts the stages together; `check.rs` validates it
-//! and measures it.
+//! and measures it; `pages.rs` gives the big arrays of the build and of the tree
+//! huge pages where the system offers them.
 //!
 //! Beside the BVH, for the course's comparison of structures (`--accel`): a uniform
 //! grid (`grid`), a scan of every primitive (`linear`), and the choice between the
@@ -51,6 +52,7 @@ mod check;
 mod grid;
 mod leaf;
 mod linear;
+mod pages;
 pub mod simd;
 mod tally;
 mod traverse;

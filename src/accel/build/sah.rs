@@ -14,6 +14,7 @@
 use super::binning::{Binner, Bins, Box4, Item, BINS};
 use super::node::BvhNode;
 use super::parallel;
+use crate::accel::pages::huge_vec;
 use crate::math::Aabb;
 use rayon::prelude::*;
 
@@ -141,13 +142,14 @@ pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
 /// for any value, and any number of threads.
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
     assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
-    let mut items: Vec<Item> = bounds
+    let mut items: Vec<Item> = huge_vec(bounds.len());
+    bounds
         .par_iter()
         .zip(packs)
         .enumerate()
         .map(|(i, (b, &pack))| Item::new(b, i as u32, pack))
-        .collect();
-    let mut nodes = Vec::with_capacity((2 * items.len()).max(1));
+        .collect_into_vec(&mut items);
+    let mut nodes = huge_vec((2 * items.len()).max(1));
     nodes.push(BvhNode::default());
     let mut depth = 1;
     let parallel_items = parallel_items.max(2 * MAX_LEAF);
@@ -282,7 +284,7 @@ impl Out<'_> {
         let (_, (sub, sub_depth)) = rayon::join(
             || self.subdivide(l, l_scratch, ls),
             || {
-                let (mut nodes, mut deepest) = (Vec::with_capacity(2 * r.len()), 0);
+                let (mut nodes, mut deepest) = (huge_vec(2 * r.len()), 0);
                 nodes.push(BvhNode::default());
                 let mut out = Out {
                     nodes: &mut nodes,

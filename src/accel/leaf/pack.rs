@@ -8,6 +8,7 @@ use super::cone4::Cone4;
 use super::sphere4::Sphere4;
 use super::tri4::{Tri4, LANES};
 use crate::accel::build::sah::Pack;
+use crate::accel::pages::huge_vec;
 use crate::accel::traverse::wide::{Node8, WIDTH};
 use crate::geometry::{Primitive, Shape};
 
@@ -117,7 +118,8 @@ pub(in crate::accel) fn pack_leaves(
     primitives: &[Primitive],
     canonical: Option<&[u32]>,
 ) -> Blocks {
-    // The blocks of each kind counted first, so each array is allocated once.
+    // The blocks of each kind counted first, so each array is allocated once (and on
+    // huge pages when big, as the queries walk it).
     let mut count = [0; 4];
     for node in wide.iter() {
         for lane in 0..WIDTH {
@@ -127,9 +129,9 @@ pub(in crate::accel) fn pack_leaves(
         }
     }
     let mut blocks = Blocks {
-        tri4: Vec::with_capacity(count[Pack::Triangle as usize]),
-        sphere4: Vec::with_capacity(count[Pack::Sphere as usize]),
-        cone4: Vec::with_capacity(count[Pack::Cone as usize]),
+        tri4: huge_vec(count[Pack::Triangle as usize]),
+        sphere4: huge_vec(count[Pack::Sphere as usize]),
+        cone4: huge_vec(count[Pack::Cone as usize]),
     };
     let (mut triangles, mut spheres, mut cones) = (Vec::new(), Vec::new(), Vec::new());
     for node in wide.iter_mut() {
