@@ -24,9 +24,9 @@
 
 #![warn(missing_docs)]
 // No `unsafe` but in `accel::traverse::avx`, the run-time-selected AVX traversal kernels (7 % off
-// whole renders, measured in BENCHMARKS.md), and in `accel::pages`, one `madvise` asking for
-// huge pages under the BVH's big arrays (+16 to +25 % rays per second on a 524 288-triangle
-// mount, BENCHMARKS.md), each allowing it for itself alone.
+// whole renders, measured in BENCHMARKS.md), and in `pages`, one `madvise` asking for huge pages
+// under the big arrays of the geometry and the BVH (+16 to +25 % rays per second on a 524 288-
+// triangle mount, BENCHMARKS.md), each allowing it for itself alone.
 #![deny(unsafe_code)]
 
 pub mod accel;
@@ -39,6 +39,7 @@ pub mod load;
 pub mod math;
 pub mod nff;
 pub mod output;
+mod pages;
 pub mod prepare;
 pub mod render;
 pub mod scene;

@@ -8,13 +8,13 @@ use super::leaf::cone4::Cone4;
 use super::leaf::pack::{leaf_kinds, pack_leaves, pack_of, Blocks};
 use super::leaf::sphere4::Sphere4;
 use super::leaf::tri4::Tri4;
-use super::pages::huge_vec;
 use super::simd::SimdLevel;
 #[cfg(target_arch = "x86_64")]
 use super::traverse::avx::Avx;
 use super::traverse::wide::Node8;
 use crate::geometry::{Geometry, GeometryData, Primitive};
 use crate::math::Aabb;
+use crate::pages::huge_vec;
 use rayon::prelude::*;
 
 /// A bounding volume hierarchy over the bounded primitives, with the unbounded ones
@@ -93,7 +93,10 @@ impl Bvh {
         drop(refs);
         // The primitives in leaf order, then the unbounded ones.
         let mut ordered: Vec<Primitive> = huge_vec(order.len() + unbounded.len());
-        order.par_iter().map(|&i| bounded[i as usize]).collect_into_vec(&mut ordered);
+        order
+            .par_iter()
+            .map(|&i| bounded[i as usize])
+            .collect_into_vec(&mut ordered);
         drop(bounded);
         let leaf_packs: Vec<Pack> = order.par_iter().map(|&i| packs[i as usize]).collect();
         let n_bounded = ordered.len();

@@ -15,8 +15,8 @@
 //!   `occlusion`), the packets (`packet`) and the rule for ties (`nearest`).
 //!
 //! `bvh.rs` holds the structure and puts the stages together; `check.rs` validates it
-//! and measures it; `pages.rs` gives the big arrays of the build and of the tree
-//! huge pages where the system offers them.
+//! and measures it. The big arrays of the build and of the tree are allocated by
+//! `crate::pages`, on huge pages where the system offers them.
 //!
 //! Beside the BVH, for the course's comparison of structures (`--accel`): a uniform
 //! grid (`grid`), a scan of every primitive (`linear`), and the choice between the
@@ -52,7 +52,6 @@ mod check;
 mod grid;
 mod leaf;
 mod linear;
-mod pages;
 pub mod simd;
 mod tally;
 mod traverse;

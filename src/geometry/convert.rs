@@ -27,6 +27,7 @@ use super::{
     Shape, SourceKind, SphereShape, Triangle,
 };
 use crate::math::Vec3;
+use crate::pages::huge_vec;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -41,8 +42,10 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
 /// the times they are seen at (see [`MovingSphereShape`]): for a caller that
 /// renders the scene with another shutter than its file's.
 pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry {
-    let mut g = Geometry::default();
-    g.primitives.reserve(scene.primitive_count());
+    let mut g = Geometry {
+        primitives: huge_vec(scene.primitive_count()),
+        ..Geometry::default()
+    };
     // Spheres and cones (hundreds of thousands in generated scenes) are converted in
     // parallel, straight into place.
     g.primitives

@@ -48,7 +48,7 @@ struct Table {
 /// primitive in leaf order. Returns the nodes and the wide tree's depth.
 pub fn collapse(binary: &[BvhNode], packs: &[Pack]) -> (Vec<Node8>, u32) {
     let table = tabulate(binary, packs);
-    let mut out = crate::accel::pages::huge_vec(binary.len() / 4 + 1);
+    let mut out = crate::pages::huge_vec(binary.len() / 4 + 1);
     let depth = emit(binary, &table, 0, &mut out);
     (out, depth)
 }

@@ -14,8 +14,8 @@
 use super::binning::{Binner, Bins, Box4, Item, BINS};
 use super::node::BvhNode;
 use super::parallel;
-use crate::accel::pages::huge_vec;
 use crate::math::Aabb;
+use crate::pages::huge_vec;
 use rayon::prelude::*;
 
 /// Relative cost of one traversal step against one primitive test (or one test of a

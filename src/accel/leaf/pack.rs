@@ -8,9 +8,9 @@ use super::cone4::Cone4;
 use super::sphere4::Sphere4;
 use super::tri4::{Tri4, LANES};
 use crate::accel::build::sah::Pack;
-use crate::accel::pages::huge_vec;
 use crate::accel::traverse::wide::{Node8, WIDTH};
 use crate::geometry::{Primitive, Shape};
+use crate::pages::huge_vec;
 
 /// Marks a wide leaf lane whose primitives are all triangles: its `child` is the first
 /// of `count & !TRI4_LEAF` [`Tri4`] blocks instead of the first primitive.
@@ -185,7 +185,11 @@ pub(in crate::accel) fn pack_leaves(
 
 /// The primitives of leaf lane `lane` of `node` and their kind of block, when they
 /// all pack in blocks of one kind.
-fn packed_leaf<'a>(node: &Node8, lane: usize, primitives: &'a [Primitive]) -> Option<(Pack, &'a [Primitive])> {
+fn packed_leaf<'a>(
+    node: &Node8,
+    lane: usize,
+    primitives: &'a [Primitive],
+) -> Option<(Pack, &'a [Primitive])> {
     let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
     if count == 0 {
         return None;

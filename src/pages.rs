@@ -1,6 +1,7 @@
-//! Room for the builder's and the tree's big arrays, backed by 2 MiB pages where the
-//! system offers them: far fewer page faults while the arrays are first written, and
-//! far fewer TLB misses while rays walk them.
+//! Room for big arrays (the primitives, the BVH builder's records and nodes, the
+//! tree's nodes and leaf blocks), backed by 2 MiB pages where the system offers them:
+//! far fewer page faults while the arrays are first written, and far fewer TLB
+//! misses while rays walk them.
 //!
 //! On Linux with transparent huge pages in `madvise` mode (a common default), memory
 //! gets them only when asked with `madvise(MADV_HUGEPAGE)` before it is touched.
