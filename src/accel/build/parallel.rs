@@ -30,7 +30,7 @@ pub fn fill_bins(bins: &mut Bins, items: &[Item], binner: &Binner) {
     let filled: Vec<Box<Bins>> = items
         .par_chunks(chunk_len(items.len()))
         .map(|chunk| {
-            let mut b = Bins::new();
+            let mut b = bins.like();
             b.fill(chunk, binner);
             b
         })

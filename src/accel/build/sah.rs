@@ -105,6 +105,11 @@ impl Packs {
         all
     }
 
+    /// `Some(self)` when it is exactly one kind.
+    pub fn uniform(self) -> Option<Packs> {
+        (self.0.count_ones() == 1).then_some(self)
+    }
+
     /// Adds `other`'s kinds.
     #[inline(always)]
     pub fn add(&mut self, other: Packs) {
@@ -141,7 +146,21 @@ pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
 /// parallel chunks (`usize::MAX`: all on the calling thread). The result is the same
 /// for any value, and any number of threads.
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
+    let uniform = Packs::of(packs.iter().copied()).uniform();
+    build_with_kinds(bounds, packs, parallel_items, uniform)
+}
+
+/// [`build_with`], where `uniform` is the one kind of every primitive (then the bins
+/// do not track kinds), or `None` to track them whatever the primitives: the same
+/// tree either way.
+pub fn build_with_kinds(
+    bounds: &[Aabb],
+    packs: &[Pack],
+    parallel_items: usize,
+    uniform: Option<Packs>,
+) -> Built {
     assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
+    debug_assert!(uniform.is_none_or(|u| packs.iter().all(|&p| Packs::one(p) == u)));
     let mut items: Vec<Item> = huge_vec(bounds.len());
     bounds
         .par_iter()
@@ -173,7 +192,7 @@ pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Bui
         let mut out = Out {
             nodes: &mut nodes,
             depth: &mut depth,
-            bins: &mut Bins::new(),
+            bins: &mut Bins::new(uniform),
             parallel_items,
             pass_items,
         };
@@ -281,6 +300,7 @@ impl Out<'_> {
         }
         // The right subtree into its own vector (its root at 0), then spliced in.
         let (parallel_items, pass_items) = (self.parallel_items, self.pass_items);
+        let mut bins = self.bins.like();
         let (_, (sub, sub_depth)) = rayon::join(
             || self.subdivide(l, l_scratch, ls),
             || {
@@ -289,7 +309,7 @@ impl Out<'_> {
                 let mut out = Out {
                     nodes: &mut nodes,
                     depth: &mut deepest,
-                    bins: &mut Bins::new(),
+                    bins: &mut bins,
                     parallel_items,
                     pass_items,
                 };
@@ -433,8 +453,8 @@ fn sweep(bins: &Bins, axis: usize, used: &[usize]) -> Option<(f32, usize)> {
     for j in (1..k).rev() {
         acc.add_box(&bins.bounds[axis][used[j]]);
         cnt += bins.count[axis][used[j]];
-        packs.add(bins.packs[axis][used[j]]);
-        right_area[j] = acc.aabb().surface_area();
+        packs.add(bins.packs(axis, used[j]));
+        right_area[j] = acc.surface_area();
         right_cost[j] = leaf_cost(cnt, packs);
     }
     let mut best: Option<(f32, usize)> = None;
@@ -442,8 +462,8 @@ fn sweep(bins: &Bins, axis: usize, used: &[usize]) -> Option<(f32, usize)> {
     for j in 0..k - 1 {
         acc.add_box(&bins.bounds[axis][used[j]]);
         cnt += bins.count[axis][used[j]];
-        packs.add(bins.packs[axis][used[j]]);
-        let cost = acc.aabb().surface_area() * leaf_cost(cnt, packs) + right_area[j + 1] * right_cost[j + 1];
+        packs.add(bins.packs(axis, used[j]));
+        let cost = acc.surface_area() * leaf_cost(cnt, packs) + right_area[j + 1] * right_cost[j + 1];
         if best.is_none_or(|(c, _)| cost < c) {
             best = Some((cost, used[j] + 1));
         }

@@ -208,6 +208,39 @@ pub(super) fn random_boxes(n: usize, seed: u64, kind: u32) -> Vec<crate::math::A
 }
 
 #[test]
+fn bins_without_kinds_build_the_tree_bins_with_kinds_build() {
+    // A build whose primitives are all of one kind leaves the bins' kinds untracked;
+    // tracking them must not change the tree.
+    use crate::accel::build::sah::{build_with, build_with_kinds, Pack, Packs};
+    let bits =
+        |n: &crate::accel::BvhNode| (n.min.map(f32::to_bits), n.max.map(f32::to_bits), n.first, n.count);
+    for (kind, pack) in [
+        (0, Pack::Triangle),
+        (1, Pack::Sphere),
+        (2, Pack::Alone),
+        (3, Pack::Cone),
+    ] {
+        for (seed, n) in [(6, 9), (7, 300), (8, 20_000)] {
+            let boxes = random_boxes(n, seed, kind);
+            let packs = vec![pack; n];
+            let untracked = build_with(&boxes, &packs, usize::MAX);
+            let tracked = build_with_kinds(&boxes, &packs, usize::MAX, None);
+            let what = format!("{pack:?}, kind {kind}, {n} boxes");
+            assert_eq!(untracked.order, tracked.order, "{what}");
+            assert!(
+                untracked
+                    .nodes
+                    .iter()
+                    .map(bits)
+                    .eq(tracked.nodes.iter().map(bits)),
+                "{what}"
+            );
+            assert_eq!(Packs::of(packs.iter().copied()).uniform(), Some(Packs::one(pack)));
+        }
+    }
+}
+
+#[test]
 fn parallel_build_equals_sequential_build_exactly() {
     use crate::accel::build::sah::{build_with, Pack, MAX_LEAF};
     let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
