@@ -28,6 +28,8 @@ fn advise(start: usize, bytes: usize) {
     if bytes < HUGE_PAGE {
         return;
     }
+    // The smallest page size; where pages are bigger, the kernel refuses a range
+    // not aligned to them, and the memory keeps ordinary pages.
     let page = 4096;
     let (first, end) = ((start + page - 1) & !(page - 1), (start + bytes) & !(page - 1));
     // SAFETY: the range lies within one allocation this process owns and nothing has
