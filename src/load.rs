@@ -269,7 +269,8 @@ fn read_file(path: &Path, name: &str, max_bytes: u64) -> Result<Vec<u8>, LoadErr
     if known > max_bytes {
         return Err(too_large());
     }
-    let mut bytes = Vec::with_capacity(known as usize);
+    // Scenes of tens of megabytes: huge pages take most page faults off the read.
+    let mut bytes = crate::pages::huge_vec(known as usize);
     file.take(max_bytes.saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(cannot_read)?;

@@ -1,5 +1,5 @@
-//! Room for big arrays (the primitives, the BVH builder's records and nodes, the
-//! tree's nodes and leaf blocks), backed by 2 MiB pages where the system offers them:
+//! Room for big arrays (a scene file's bytes, the primitives, the BVH builder's
+//! records and nodes, the tree's nodes and leaf blocks), backed by 2 MiB pages where the system offers them:
 //! far fewer page faults while the arrays are first written, and far fewer TLB
 //! misses while rays walk them.
 //!
