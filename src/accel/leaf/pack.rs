@@ -158,7 +158,7 @@ pub(in crate::accel) fn pack_leaves(
                 canonical,
             };
             let (range, mark) = match kind {
-                Pack::Alone => continue,
+                Pack::Alone => unreachable!("packed_leaf leaves out primitives tested alone"),
                 Pack::Triangle => (
                     leaf.pack(triangle, Tri4::new, &mut triangles, &mut blocks.tri4),
                     TRI4_LEAF,
