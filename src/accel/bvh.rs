@@ -112,7 +112,7 @@ impl Bvh {
         );
         drop(built.nodes);
         let canonical = copies.as_ref().map(|c| c.canonical.as_slice());
-        let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered, canonical);
+        let Blocks { tri4, sphere4, cone4 } = pack_leaves(&mut wide, &ordered, &leaf_packs, canonical);
         let kinds = leaf_kinds::copy_for(&wide);
         Bvh {
             wide,

@@ -11,6 +11,8 @@ use crate::accel::build::sah::Pack;
 use crate::accel::traverse::wide::{Node8, WIDTH};
 use crate::geometry::{Primitive, Shape};
 use crate::pages::huge_vec;
+use rayon::prelude::*;
+use std::ops::Range;
 
 /// Marks a wide leaf lane whose primitives are all triangles: its `child` is the first
 /// of `count & !TRI4_LEAF` [`Tri4`] blocks instead of the first primitive.
@@ -112,124 +114,105 @@ pub(in crate::accel) struct Blocks {
 /// with [`TRI4_LEAF`]), every one made only of packable spheres into [`Sphere4`]
 /// blocks (marked with [`SPHERE4_LEAF`]) and every one made only of packable cones
 /// into [`Cone4`] blocks (marked with [`CONE4_LEAF`]); other leaves keep pointing at
-/// `primitives`.
+/// `primitives`. `packs[i]` is [`pack_of`] `primitives[i]`.
 pub(in crate::accel) fn pack_leaves(
     wide: &mut [Node8],
     primitives: &[Primitive],
+    packs: &[Pack],
     canonical: Option<&[u32]>,
 ) -> Blocks {
-    // The blocks of each kind counted first, so each array is allocated once (and on
-    // huge pages when big, as the queries walk it).
-    let mut count = [0; 4];
-    for node in wide.iter() {
-        for lane in 0..WIDTH {
-            if let Some((kind, leaf)) = packed_leaf(node, lane, primitives) {
-                count[kind as usize] += leaf.len().div_ceil(LANES);
-            }
-        }
-    }
-    let mut blocks = Blocks {
-        tri4: huge_vec(count[Pack::Triangle as usize]),
-        sphere4: huge_vec(count[Pack::Sphere as usize]),
-        cone4: huge_vec(count[Pack::Cone as usize]),
-    };
-    let (mut triangles, mut spheres, mut cones) = (Vec::new(), Vec::new(), Vec::new());
+    // The lanes pointed at their blocks and the blocks listed, in leaf order, on one
+    // thread (this reads only the nodes and the kinds); then the blocks made on all.
+    let mut blocks: [Vec<Range<u32>>; 4] = Default::default();
     for node in wide.iter_mut() {
         for lane in 0..WIDTH {
-            let Some((kind, leaf)) = packed_leaf(node, lane, primitives) else {
+            let Some(kind) = packed_leaf(node, lane, packs) else {
                 continue;
             };
-            let first = node.child[lane] as usize;
-            let triangle = |s: &Shape| match s {
-                Shape::Triangle(t) => Some(*t),
-                _ => None,
-            };
-            let sphere = |s: &Shape| match s {
-                Shape::Sphere(s) => Some(*s),
-                _ => None,
-            };
-            let cone = |s: &Shape| match s {
-                Shape::Cone(c) => Some(*c),
-                _ => None,
-            };
-            let leaf = Leaf {
-                primitives: leaf,
-                first,
-                canonical,
-            };
-            let (range, mark) = match kind {
-                Pack::Alone => unreachable!("packed_leaf leaves out primitives tested alone"),
-                Pack::Triangle => (
-                    leaf.pack(triangle, Tri4::new, &mut triangles, &mut blocks.tri4),
-                    TRI4_LEAF,
-                ),
-                Pack::Sphere => (
-                    leaf.pack(sphere, Sphere4::new, &mut spheres, &mut blocks.sphere4),
-                    SPHERE4_LEAF,
-                ),
-                Pack::Cone => (
-                    leaf.pack(cone, Cone4::new, &mut cones, &mut blocks.cone4),
-                    CONE4_LEAF,
-                ),
-            };
-            node.child[lane] = range.start as u32;
-            node.count[lane] = (mark | range.len()) as u32;
+            let (first, end) = (node.child[lane], node.child[lane] + node.count[lane]);
+            let list = &mut blocks[kind as usize];
+            let start = list.len();
+            list.extend((first..end).step_by(LANES).map(|b| b..end.min(b + LANES as u32)));
+            node.child[lane] = start as u32;
+            node.count[lane] = (mark(kind) | (list.len() - start)) as u32;
         }
     }
-    debug_assert_eq!(
-        [blocks.tri4.len(), blocks.sphere4.len(), blocks.cone4.len()],
-        [Pack::Triangle, Pack::Sphere, Pack::Cone].map(|k| count[k as usize])
-    );
-    blocks
+    let leaves = Leaves {
+        primitives,
+        canonical,
+    };
+    let triangle = |s: &Shape| match s {
+        Shape::Triangle(t) => Some(*t),
+        _ => None,
+    };
+    let sphere = |s: &Shape| match s {
+        Shape::Sphere(s) => Some(*s),
+        _ => None,
+    };
+    let cone = |s: &Shape| match s {
+        Shape::Cone(c) => Some(*c),
+        _ => None,
+    };
+    Blocks {
+        tri4: leaves.pack(&blocks[Pack::Triangle as usize], triangle, Tri4::new),
+        sphere4: leaves.pack(&blocks[Pack::Sphere as usize], sphere, Sphere4::new),
+        cone4: leaves.pack(&blocks[Pack::Cone as usize], cone, Cone4::new),
+    }
 }
 
-/// The primitives of leaf lane `lane` of `node` and their kind of block, when they
-/// all pack in blocks of one kind.
-fn packed_leaf<'a>(
-    node: &Node8,
-    lane: usize,
-    primitives: &'a [Primitive],
-) -> Option<(Pack, &'a [Primitive])> {
+/// The mark of a leaf lane packed in blocks of `kind` (not [`Pack::Alone`]).
+fn mark(kind: Pack) -> usize {
+    match kind {
+        Pack::Alone => unreachable!("primitives tested alone are not packed"),
+        Pack::Triangle => TRI4_LEAF,
+        Pack::Sphere => SPHERE4_LEAF,
+        Pack::Cone => CONE4_LEAF,
+    }
+}
+
+/// The kind of block of leaf lane `lane` of `node`, when its primitives all pack in
+/// blocks of one kind (`packs` as in [`pack_leaves`]).
+fn packed_leaf(node: &Node8, lane: usize, packs: &[Pack]) -> Option<Pack> {
     let (first, count) = (node.child[lane] as usize, node.count[lane] as usize);
     if count == 0 {
         return None;
     }
-    let leaf = &primitives[first..first + count];
-    let kind = pack_of(&leaf[0]);
-    (kind != Pack::Alone && leaf.iter().all(|p| pack_of(p) == kind)).then_some((kind, leaf))
+    let leaf = &packs[first..first + count];
+    let kind = leaf[0];
+    (kind != Pack::Alone && leaf.iter().all(|&p| p == kind)).then_some(kind)
 }
 
-/// A leaf to pack: its primitives, the first one's leaf-order index, and how the
-/// queries report leaf-order indices (`canonical`, if given).
-struct Leaf<'a> {
+/// The primitives in leaf order, and how the queries report leaf-order indices
+/// (`canonical`, if given).
+struct Leaves<'a> {
     primitives: &'a [Primitive],
-    first: usize,
     canonical: Option<&'a [u32]>,
 }
 
-impl Leaf<'_> {
-    /// Appends to `out` the blocks (`make`, [`LANES`] shapes at most, gathered in
-    /// `lanes`) of the leaf, whose primitives all have the shape `shape` picks out;
-    /// returns the range of the new blocks.
-    fn pack<T, B>(
+impl Leaves<'_> {
+    /// The blocks (`make`, [`LANES`] shapes at most) of the leaf-order ranges
+    /// `blocks`, whose primitives all have the shape `shape` picks out; made on all
+    /// threads.
+    fn pack<T: Send, B: Send>(
         &self,
-        shape: impl Fn(&Shape) -> Option<T>,
-        make: impl Fn(&[(T, u32)]) -> B,
-        lanes: &mut Vec<(T, u32)>,
-        out: &mut Vec<B>,
-    ) -> std::ops::Range<usize> {
-        let start = out.len();
-        for (chunk_index, chunk) in self.primitives.chunks(LANES).enumerate() {
-            lanes.clear();
-            for (k, p) in chunk.iter().enumerate() {
-                if let Some(t) = shape(&p.shape) {
-                    let index = self.first + chunk_index * LANES + k;
-                    lanes.push((t, self.canonical.map_or(index as u32, |c| c[index])));
+        blocks: &[Range<u32>],
+        shape: impl Fn(&Shape) -> Option<T> + Sync + Send,
+        make: impl Fn(&[(T, u32)]) -> B + Sync + Send,
+    ) -> Vec<B> {
+        let mut out = huge_vec(blocks.len());
+        blocks
+            .par_iter()
+            .map_init(Vec::new, |lanes, block| {
+                lanes.clear();
+                for index in block.start as usize..block.end as usize {
+                    if let Some(t) = shape(&self.primitives[index].shape) {
+                        lanes.push((t, self.canonical.map_or(index as u32, |c| c[index])));
+                    }
                 }
-            }
-            out.push(make(lanes));
-        }
-        start..out.len()
+                make(lanes)
+            })
+            .collect_into_vec(&mut out);
+        out
     }
 }
 
