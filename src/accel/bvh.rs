@@ -62,13 +62,11 @@ impl Bvh {
         // Unbounded primitives (planes) set aside in place: with none, as in most
         // scenes, nothing moves. The big arrays below are filled in parallel (their
         // first-touch page faults were a third of building 600 000 spheres).
-        let unbounded: Vec<Primitive> = bounded
-            .iter()
-            .filter(|p| p.bounds(&data).is_none())
-            .copied()
-            .collect();
-        if !unbounded.is_empty() {
-            bounded.retain(|p| p.bounds(&data).is_some());
+        let is_unbounded = |p: &Primitive| p.bounds(&data).is_none();
+        let mut unbounded = Vec::new();
+        if bounded.par_iter().any(is_unbounded) {
+            unbounded = bounded.iter().copied().filter(is_unbounded).collect();
+            bounded.retain(|p| !is_unbounded(p));
         }
         let mut bounds: Vec<Aabb> = huge_vec(bounded.len());
         bounded
