@@ -28,7 +28,7 @@ use super::{
 };
 use crate::math::Vec3;
 use crate::pages::huge_vec;
-use crate::scene::Scene;
+use crate::scene::{Polygon, Scene};
 use rayon::prelude::*;
 
 /// Converts every primitive of `scene` (see the module docs for the mapping), its
@@ -42,8 +42,16 @@ pub fn build_geometry(scene: &Scene) -> Geometry {
 /// the times they are seen at (see [`MovingSphereShape`]): for a caller that
 /// renders the scene with another shutter than its file's.
 pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry {
+    // Polygons first: their pieces tell how many primitives there are.
+    let polygons = polygon_chunks(scene);
+    let pieces: usize = polygons
+        .iter()
+        .map(|c| c.triangles.len() + c.crossings.len())
+        .sum();
+    let patch_pieces: usize = scene.patches.iter().map(|p| p.count as usize - 2).sum();
+    let count = scene.primitive_count() - scene.polygons.len() - scene.patches.len();
     let mut g = Geometry {
-        primitives: huge_vec(scene.primitive_count()),
+        primitives: huge_vec(count + pieces + patch_pieces),
         ..Geometry::default()
     };
     // Spheres and cones (hundreds of thousands in generated scenes) are converted in
@@ -70,6 +78,22 @@ pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry 
     }));
     let prims = &mut g.primitives;
     let data = &mut g.data;
+    // The polygons' triangles copied in input order, and those that keep the
+    // crossings test (whose vertices go to `data`) converted in between.
+    for chunk in polygons {
+        let mut from = 0;
+        for (at, p) in chunk.crossings {
+            prims.extend_from_slice(&chunk.triangles[from..at]);
+            prims.push(Primitive {
+                shape: Shape::Polygon(PolygonShape::new(scene.polygon_points(p), data)),
+                material: p.material,
+                line: p.line,
+                kind: SourceKind::Polygon,
+            });
+            from = at;
+        }
+        prims.extend_from_slice(&chunk.triangles[from..]);
+    }
     let mut push = |shape, material, line, kind| {
         prims.push(Primitive {
             shape,
@@ -79,29 +103,6 @@ pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry 
         })
     };
 
-    // Polygons are triangulated in parallel, chunk by chunk; the pieces are pushed in
-    // input order, so the result is the same as one pass would give.
-    let pieces: Vec<Vec<(u32, Option<Triangle>)>> = scene
-        .polygons
-        .par_chunks(POLYGON_CHUNK)
-        .enumerate()
-        .map(|(c, chunk)| {
-            let mut out = Vec::with_capacity(chunk.len() * 2);
-            for (k, p) in chunk.iter().enumerate() {
-                let i = (c * POLYGON_CHUNK + k) as u32;
-                polygon_pieces(scene.polygon_points(p), |t| out.push((i, t)));
-            }
-            out
-        })
-        .collect();
-    for (i, tri) in pieces.into_iter().flatten() {
-        let p = &scene.polygons[i as usize];
-        let shape = match tri {
-            Some(tri) => Shape::Triangle(tri),
-            None => Shape::Polygon(PolygonShape::new(scene.polygon_points(p), data)),
-        };
-        push(shape, p.material, p.line, SourceKind::Polygon);
-    }
     for p in &scene.patches {
         let (pts, normals) = scene.patch_points(p);
         for (a, b, c) in fan(pts) {
@@ -130,6 +131,40 @@ pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry 
 
 /// Polygons per parallel triangulation task.
 const POLYGON_CHUNK: usize = 128;
+
+/// The primitives of one chunk of polygons: the triangles covering them, in input
+/// order, and the polygons that keep the crossings test, each with the number of
+/// triangles before it.
+struct PolygonChunk<'a> {
+    triangles: Vec<Primitive>,
+    crossings: Vec<(usize, &'a Polygon)>,
+}
+
+/// The scene's polygons triangulated, [`POLYGON_CHUNK`] of them per parallel task.
+fn polygon_chunks(scene: &Scene) -> Vec<PolygonChunk<'_>> {
+    scene
+        .polygons
+        .par_chunks(POLYGON_CHUNK)
+        .map(|chunk| {
+            let mut out = PolygonChunk {
+                triangles: Vec::with_capacity(chunk.len()),
+                crossings: Vec::new(),
+            };
+            for p in chunk {
+                polygon_pieces(scene.polygon_points(p), |piece| match piece {
+                    Some(tri) => out.triangles.push(Primitive {
+                        shape: Shape::Triangle(tri),
+                        material: p.material,
+                        line: p.line,
+                        kind: SourceKind::Polygon,
+                    }),
+                    None => out.crossings.push((out.triangles.len(), p)),
+                });
+            }
+            out
+        })
+        .collect()
+}
 
 /// Emits the triangles covering polygon `pts` (see the module docs), or one `None`
 /// for a polygon that keeps the crossings test.
