@@ -13,7 +13,6 @@ use super::simd::SimdLevel;
 use super::traverse::avx::Avx;
 use super::traverse::wide::Node8;
 use crate::geometry::{Geometry, GeometryData, Primitive};
-use crate::math::Aabb;
 use crate::pages::huge_vec;
 use rayon::prelude::*;
 
@@ -68,21 +67,16 @@ impl Bvh {
             unbounded = bounded.iter().copied().filter(is_unbounded).collect();
             bounded.retain(|p| !is_unbounded(p));
         }
-        let mut bounds: Vec<Aabb> = huge_vec(bounded.len());
-        bounded
-            .par_iter()
-            .map(|p| p.bounds(&data).expect("unbounded primitives set aside"))
-            .collect_into_vec(&mut bounds);
+        let bounds = |i: usize| bounded[i].bounds(&data).expect("unbounded primitives set aside");
         // Triangles and spheres are intersected several at a time (in blocks), which
         // the SAH knows.
         let packs: Vec<Pack> = bounded.par_iter().map(pack_of).collect();
         // Long oblique cones enter the tree as several pieces (`accel::build::split`).
-        let refs = split::split_long_cones(&bounded, &bounds, &packs);
+        let refs = split::split_long_cones(&bounded, bounds, &packs);
         let built = match &refs {
             Some(r) => sah::build(&r.bounds, &r.packs),
-            None => sah::build(&bounds, &packs),
+            None => sah::build_of(bounds, &packs),
         };
-        drop(bounds);
         let copies = refs.as_ref().map(|r| Copies::new(r, &built.order, bounded.len()));
         let order: Vec<u32> = match &refs {
             Some(r) => built.order.iter().map(|&i| r.primitive[i as usize]).collect(),

@@ -141,32 +141,39 @@ pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
     build_with(bounds, packs, PARALLEL_ITEMS)
 }
 
+/// [`build`] over the boxes `bounds(i)` of the primitives `i` in `0..packs.len()`,
+/// computed as the builder's records are made (no array of boxes in between).
+pub fn build_of(bounds: impl Fn(usize) -> Aabb + Sync, packs: &[Pack]) -> Built {
+    let uniform = Packs::of(packs.iter().copied()).uniform();
+    build_with_kinds(bounds, packs, PARALLEL_ITEMS, uniform)
+}
+
 /// [`build`], handing subtrees over `parallel_items` primitives to `rayon::join`
 /// and binning and partitioning nodes over [`PASS_PER_JOIN`] times that many in
 /// parallel chunks (`usize::MAX`: all on the calling thread). The result is the same
 /// for any value, and any number of threads.
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
+    assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
     let uniform = Packs::of(packs.iter().copied()).uniform();
-    build_with_kinds(bounds, packs, parallel_items, uniform)
+    build_with_kinds(|i| bounds[i], packs, parallel_items, uniform)
 }
 
-/// [`build_with`], where `uniform` is the one kind of every primitive (then the bins
-/// do not track kinds), or `None` to track them whatever the primitives: the same
-/// tree either way.
+/// [`build_with`] over the boxes `bounds(i)` of the primitives `i` in
+/// `0..packs.len()`, where `uniform` is the one kind of every primitive (then the
+/// bins do not track kinds), or `None` to track them whatever the primitives: the
+/// same tree either way.
 pub fn build_with_kinds(
-    bounds: &[Aabb],
+    bounds: impl Fn(usize) -> Aabb + Sync,
     packs: &[Pack],
     parallel_items: usize,
     uniform: Option<Packs>,
 ) -> Built {
-    assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
     debug_assert!(uniform.is_none_or(|u| packs.iter().all(|&p| Packs::one(p) == u)));
-    let mut items: Vec<Item> = huge_vec(bounds.len());
-    bounds
+    let mut items: Vec<Item> = huge_vec(packs.len());
+    packs
         .par_iter()
-        .zip(packs)
         .enumerate()
-        .map(|(i, (b, &pack))| Item::new(b, i as u32, pack))
+        .map(|(i, &pack)| Item::new(&bounds(i), i as u32, pack))
         .collect_into_vec(&mut items);
     let mut nodes = huge_vec((2 * items.len()).max(1));
     nodes.push(BvhNode::default());

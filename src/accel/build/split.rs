@@ -139,12 +139,12 @@ pub(in crate::accel) fn pieces(cone: &ConeShape) -> u32 {
     of
 }
 
-/// The references for `primitives` (with their `bounds` and `packs`), or `None`
+/// The references for `primitives` (with their boxes `bounds(i)` and `packs`), or `None`
 /// when no cone is worth splitting (then the builder takes the primitives as they
 /// are).
 pub(in crate::accel) fn split_long_cones(
     primitives: &[Primitive],
-    bounds: &[Aabb],
+    bounds: impl Fn(usize) -> Aabb + Sync,
     packs: &[Pack],
 ) -> Option<References> {
     if !packs.par_iter().any(|&p| p == Pack::Cone) {
@@ -163,12 +163,13 @@ pub(in crate::accel) fn split_long_cones(
         return None;
     }
     let each = || counts.par_iter().enumerate();
+    let bounds = &bounds;
     Some(References {
         bounds: each()
             .flat_map_iter(|(i, &of)| {
                 Piece::all(of).map(move |piece| match &primitives[i].shape {
                     Shape::Cone(c) if of > 1 => piece.bounds_of(c),
-                    _ => bounds[i],
+                    _ => bounds(i),
                 })
             })
             .collect(),

@@ -224,7 +224,7 @@ fn bins_without_kinds_build_the_tree_bins_with_kinds_build() {
             let boxes = random_boxes(n, seed, kind);
             let packs = vec![pack; n];
             let untracked = build_with(&boxes, &packs, usize::MAX);
-            let tracked = build_with_kinds(&boxes, &packs, usize::MAX, None);
+            let tracked = build_with_kinds(|i| boxes[i], &packs, usize::MAX, None);
             let what = format!("{pack:?}, kind {kind}, {n} boxes");
             assert_eq!(untracked.order, tracked.order, "{what}");
             assert!(
