@@ -441,6 +441,56 @@ mod tests {
         assert!(first_hit(&g, &Ray::new(Vec3::new(0.6, 0.0, 1.0), down)).is_some());
     }
 
+    /// Polygons triangulated chunk by chunk on several threads come out in input
+    /// order, those that keep the crossings test in their places among the
+    /// triangles, each with its own vertices.
+    #[test]
+    fn polygons_come_out_in_input_order_across_chunks() {
+        // Three kinds in turn, over more than two chunks: a triangle (one piece), a
+        // pentagram (one crossings-test polygon), a convex quad (two triangles); each
+        // polygon on its own line, at its own height.
+        let n = 2 * POLYGON_CHUNK + 50;
+        let mut text = String::new();
+        let mut expected = Vec::new();
+        for i in 0..n {
+            let z = i as f32;
+            let line = i as u32 + 1;
+            match i % 3 {
+                0 => {
+                    text += &format!("p 3 0 0 {z} 1 0 {z} 0 1 {z}\n");
+                    expected.push((line, false));
+                }
+                1 => {
+                    text += &format!(
+                        "p 5 1 0 {z} -0.809 0.588 {z} 0.309 -0.951 {z} 0.309 0.951 {z} -0.809 -0.588 {z}\n"
+                    );
+                    expected.push((line, true));
+                }
+                _ => {
+                    text += &format!("p 4 0 0 {z} 2 0 {z} 2 1 {z} 0 1 {z}\n");
+                    expected.extend([(line, false), (line, false)]);
+                }
+            }
+        }
+        let g = build_geometry(&parse(&text).unwrap());
+        let got: Vec<(u32, bool)> = g
+            .primitives
+            .iter()
+            .map(|p| (p.line, matches!(p.shape, Shape::Polygon(_))))
+            .collect();
+        assert_eq!(got, expected);
+        // Each pentagram answers at its own height: its vertices are its own.
+        let down = Vec3::new(0.0, 0.0, -1.0);
+        for (index, p) in g.primitives.iter().enumerate() {
+            if let Shape::Polygon(_) = p.shape {
+                let z = (p.line - 1) as f32;
+                let ray = Ray::new(Vec3::new(0.6, 0.0, z + 0.5), down);
+                let hit = p.intersect(&ray, 0.75, &g.data);
+                assert_eq!(hit.map(|h| h.t), Some(0.5), "polygon {index}, line {}", p.line);
+            }
+        }
+    }
+
     #[test]
     fn patch_fan_carries_its_vertex_normals() {
         let src = "pp 4 0 0 0 0 0 1  1 0 0 1 0 0  1 1 0 0 1 0  0 1 0 1 1 1\n";
