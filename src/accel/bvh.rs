@@ -74,8 +74,8 @@ impl Bvh {
         // Long oblique cones enter the tree as several pieces (`accel::build::split`).
         let refs = split::split_long_cones(&bounded, bounds, &packs);
         let built = match &refs {
-            Some(r) => sah::build(&r.bounds, &r.packs),
-            None => sah::build_of(bounds, &packs),
+            Some(r) => sah::build(|i| r.bounds[i], &r.packs),
+            None => sah::build(bounds, &packs),
         };
         let copies = refs.as_ref().map(|r| Copies::new(r, &built.order, bounded.len()));
         let order: Vec<u32> = match &refs {

@@ -134,34 +134,32 @@ pub fn leaf_cost(n: u32, packs: Packs) -> f32 {
     }
 }
 
-/// Builds a BVH over `bounds` (one box per primitive); `packs[i]` tells in which kind
-/// of block primitive `i` can be tested with others of its kind, which the SAH then
-/// counts as one test per block (see [`leaf_cost`]).
-pub fn build(bounds: &[Aabb], packs: &[Pack]) -> Built {
-    build_with(bounds, packs, PARALLEL_ITEMS)
-}
-
-/// [`build`] over the boxes `bounds(i)` of the primitives `i` in `0..packs.len()`,
-/// computed as the builder's records are made (no array of boxes in between).
-pub fn build_of(bounds: impl Fn(usize) -> Aabb + Sync, packs: &[Pack]) -> Built {
+/// Builds a BVH over the primitives `i` in `0..packs.len()`, whose boxes are
+/// `bounds(i)` (computed as the builder's records are made, with no array of boxes
+/// in between); `packs[i]` tells in which kind of block primitive `i` can be tested
+/// with others of its kind, which the SAH then counts as one test per block (see
+/// [`leaf_cost`]).
+pub fn build(bounds: impl Fn(usize) -> Aabb + Sync, packs: &[Pack]) -> Built {
     let uniform = Packs::of(packs.iter().copied()).uniform();
     build_with_kinds(bounds, packs, PARALLEL_ITEMS, uniform)
 }
 
-/// [`build`], handing subtrees over `parallel_items` primitives to `rayon::join`
-/// and binning and partitioning nodes over [`PASS_PER_JOIN`] times that many in
-/// parallel chunks (`usize::MAX`: all on the calling thread). The result is the same
-/// for any value, and any number of threads.
+/// [`build`] over the boxes `bounds`, handing subtrees over `parallel_items`
+/// primitives to `rayon::join` and binning and partitioning nodes over
+/// [`PASS_PER_JOIN`] times that many in parallel chunks (`usize::MAX`: all on the
+/// calling thread), for the tests: the result is the same for any value, and any
+/// number of threads.
+#[cfg(test)]
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
     assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
     let uniform = Packs::of(packs.iter().copied()).uniform();
     build_with_kinds(|i| bounds[i], packs, parallel_items, uniform)
 }
 
-/// [`build_with`] over the boxes `bounds(i)` of the primitives `i` in
-/// `0..packs.len()`, where `uniform` is the one kind of every primitive (then the
-/// bins do not track kinds), or `None` to track them whatever the primitives: the
-/// same tree either way.
+/// [`build`] with subtrees handed to other threads as `build_with` (the tests')
+/// hands them, where `uniform` is the one kind of every primitive (then the bins do
+/// not track kinds), or `None` to track them whatever the primitives: the same tree
+/// either way.
 pub fn build_with_kinds(
     bounds: impl Fn(usize) -> Aabb + Sync,
     packs: &[Pack],

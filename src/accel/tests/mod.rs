@@ -111,16 +111,16 @@ fn the_sah_counts_packable_primitives_a_block_at_a_time() {
             Aabb::new(min, min + Vec3::splat(1.0))
         })
         .collect();
-    let one_by_one = build(&cubes, &[Pack::Alone; 4]);
+    let one_by_one = build(|i| cubes[i], &[Pack::Alone; 4]);
     assert_eq!(one_by_one.nodes[0].count, 0, "split at the root");
     assert_eq!(one_by_one.nodes.len(), 7, "four leaves of one");
     for pack in [Pack::Triangle, Pack::Sphere, Pack::Cone] {
-        let blocks = build(&cubes, &[pack; 4]);
+        let blocks = build(|i| cubes[i], &[pack; 4]);
         assert_eq!(blocks.nodes.len(), 1, "one leaf of {pack:?}");
         assert_eq!(blocks.nodes[0].count, 4);
     }
     let mixed = build(
-        &cubes,
+        |i| cubes[i],
         &[Pack::Triangle, Pack::Sphere, Pack::Triangle, Pack::Sphere],
     );
     assert_eq!(mixed.nodes[0].count, 0, "mixed kinds split at the root");
