@@ -30,7 +30,9 @@ impl PacketBoxes {
     /// Prepares `rays`.
     #[inline(always)]
     pub fn new(rays: &Ray8) -> PacketBoxes {
-        let inv = std::array::from_fn(|axis| {
+        // (Arrays written out rather than `std::array::from_fn`, which the compiler
+        // left as a call per packet.)
+        let prepare = |axis: usize| {
             let inv = f32x8::from(rays.inv[axis]);
             let parallel = f32x8::from(rays.dir[axis]).abs().simd_lt(f32x8::splat(TINY_DIR));
             // (`Ray::inv_dir` keeps the sign of a zero direction component.)
@@ -38,7 +40,8 @@ impl PacketBoxes {
                 .simd_lt(f32x8::ZERO)
                 .bitselect(f32x8::splat(f32::NEG_INFINITY), f32x8::splat(f32::INFINITY));
             parallel.bitselect(infinite, inv).to_array()
-        });
+        };
+        let inv = [prepare(0), prepare(1), prepare(2)];
         PacketBoxes {
             origin: rays.origin,
             inv,
@@ -145,9 +148,11 @@ impl Frustum {
     #[inline(always)]
     fn new(boxes: &PacketBoxes, lanes: u32, near: &[usize; 3]) -> Frustum {
         // The rays' lanes as all-ones bits, the others' as zeros.
-        let on = f32x8::from(std::array::from_fn::<f32, RAYS, _>(|k| {
-            f32::from_bits(0u32.wrapping_sub(lanes >> k & 1))
-        }));
+        let mut on = [0.0; RAYS];
+        for (k, on) in on.iter_mut().enumerate() {
+            *on = f32::from_bits(0u32.wrapping_sub(lanes >> k & 1));
+        }
+        let on = f32x8::from(on);
         let range = |v: &[f32; RAYS]| {
             let v = f32x8::from(*v);
             let lo = on.bitselect(v, f32x8::splat(f32::INFINITY)).to_array();
@@ -160,8 +165,8 @@ impl Frustum {
             ]
         };
         Frustum {
-            origin: std::array::from_fn(|axis| range(&boxes.origin[axis])),
-            inv: std::array::from_fn(|axis| range(&boxes.inv[axis])),
+            origin: [0, 1, 2].map(|axis| range(&boxes.origin[axis])),
+            inv: [0, 1, 2].map(|axis| range(&boxes.inv[axis])),
             near: *near,
         }
     }
