@@ -83,18 +83,6 @@ impl Aggregate {
         }
     }
 
-    /// The closest hits of up to [`super::PACKET`] rays, into `out` (the BVH traces
-    /// them as a packet, the others one at a time).
-    #[inline]
-    pub fn closest_hit_packet(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
-        if let Structure::Bvh = self.structure {
-            return self.bvh.closest_hit_packet(rays, t_max, out);
-        }
-        for (ray, hit) in rays.iter().zip(out) {
-            *hit = self.closest_hit(ray, t_max);
-        }
-    }
-
     /// The closest hits of the rays of `rays` whose bits are set in `active`, into
     /// `out` (`None` for the other lanes): the BVH traces them as a packet
     /// ([`Bvh::closest_hits8`]), the others one at a time.

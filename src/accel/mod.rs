@@ -61,7 +61,7 @@ pub use build::node::BvhNode;
 pub use bvh::Bvh;
 pub use check::BvhStats;
 pub use grid::{Grid, MAX_CELLS_PER_AXIS};
-pub use leaf::ray8::Ray8;
+pub use leaf::ray8::{Ray8, RayLanes};
 pub use tally::{QueryCounts, Tally};
 pub use traverse::occlusion::NO_HINT;
 pub use traverse::packet::PACKET;

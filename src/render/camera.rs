@@ -19,8 +19,9 @@
 //! point and passes through the point of the focal plane that the pinhole ray of the
 //! same raster position meets, so every lens ray of one raster position meets there.
 
+use crate::accel::{Ray8, RayLanes, PACKET};
 use crate::limits::DEFAULT_SHUTTER;
-use crate::math::{safe_recip, Ray, Vec3};
+use crate::math::{Ray, Vec3};
 use crate::scene::{AngleSpan, View};
 
 use super::RenderOptions;
@@ -177,75 +178,41 @@ impl Camera {
         (start, focus - start)
     }
 
-    /// The eye rays of `samples`, in order, into `out` (cleared first): bit for bit
-    /// [`Camera::ray`] of each. With a lens they are worked out in blocks of eight
-    /// samples without a branch, into one array per coordinate, which lets
-    /// the compiler use vector instructions for the lens map's and the
-    /// normalization's divisions and square roots, most of a lens ray's cost.
-    pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Ray>) {
-        out.clear();
-        let Some(lens) = &self.lens else {
-            out.extend(samples.iter().map(|s| self.ray(s)));
-            return;
-        };
-        for block in samples.chunks(LANES) {
-            // The last block padded, so that the loop runs a whole block every time.
-            let mut lanes = [CameraSample::at(0.0, 0.0); LANES];
-            lanes[..block.len()].copy_from_slice(block);
-            let mut rays = LaneRays::default();
-            for (i, s) in lanes.iter().enumerate() {
-                // The lens centre takes the pinhole ray, as `ray` does: both are
-                // worked out and one is chosen, so that no lane branches.
-                let (lens_start, towards) = self.lens_start_and_direction(lens, s);
-                let centre = s.lens == (0.5, 0.5);
-                let start = if centre { self.origin } else { lens_start };
-                let pinhole = self.through(s.raster.0, s.raster.1);
-                let dir = if centre { pinhole } else { towards }.normalize();
-                rays.set(i, start, dir, self.time(s.time));
+    /// The eye rays of one to eight `samples`, as a packet: bit for bit
+    /// [`Camera::ray`] of each, made in lanes without a branch (one array per
+    /// coordinate), which lets the compiler use vector instructions for the lens
+    /// map's and the normalization's divisions and square roots, most of a lens ray's
+    /// cost, and hands the packet to the acceleration structure as it is.
+    pub fn rays8(&self, samples: &[CameraSample]) -> Ray8 {
+        let n = samples.len();
+        assert!((1..=PACKET).contains(&n), "one to {PACKET} samples");
+        // Padded, so that the loops run a whole packet every time.
+        let mut lanes = [CameraSample::at(0.0, 0.0); PACKET];
+        lanes[..n].copy_from_slice(samples);
+        let mut rays = RayLanes::default();
+        match &self.lens {
+            Some(lens) => {
+                for (i, s) in lanes.iter().enumerate() {
+                    // The lens centre takes the pinhole ray, as `ray` does: both are
+                    // worked out and one is chosen, so that no lane branches.
+                    let (lens_start, towards) = self.lens_start_and_direction(lens, s);
+                    let centre = s.lens == (0.5, 0.5);
+                    let start = if centre { self.origin } else { lens_start };
+                    let pinhole = self.through(s.raster.0, s.raster.1);
+                    let dir = if centre { pinhole } else { towards }.normalize();
+                    rays.set(i, start, dir, self.time(s.time));
+                }
             }
-            out.extend((0..block.len()).map(|i| rays.ray(i)));
+            None => {
+                for (i, s) in lanes.iter().enumerate() {
+                    let dir = self.through(s.raster.0, s.raster.1).normalize();
+                    rays.set(i, self.origin, dir, self.time(s.time));
+                }
+            }
         }
+        rays.packet(n)
     }
 }
-
-/// A block of rays, one array per coordinate.
-#[derive(Default)]
-struct LaneRays {
-    origin: [[f32; LANES]; 3],
-    dir: [[f32; LANES]; 3],
-    inv_dir: [[f32; LANES]; 3],
-    time: [f32; LANES],
-}
-
-impl LaneRays {
-    #[inline(always)]
-    fn set(&mut self, i: usize, origin: Vec3, dir: Vec3, time: f32) {
-        self.time[i] = time;
-        for (k, (o, d)) in [(origin.x, dir.x), (origin.y, dir.y), (origin.z, dir.z)]
-            .into_iter()
-            .enumerate()
-        {
-            self.origin[k][i] = o;
-            self.dir[k][i] = d;
-            self.inv_dir[k][i] = safe_recip(d);
-        }
-    }
-
-    #[inline(always)]
-    fn ray(&self, i: usize) -> Ray {
-        let v = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
-        Ray {
-            origin: v(&self.origin),
-            dir: v(&self.dir),
-            inv_dir: v(&self.inv_dir),
-            time: self.time[i],
-        }
-    }
-}
-
-/// Samples per block of [`Camera::rays`]: eight `f32` lanes fill an AVX register,
-/// two SSE ones.
-const LANES: usize = 8;
 
 /// Shirley and Chiu's concentric map of the unit square onto the unit disc: strata
 /// of the square stay compact on the disc, so stratified lens samples stay stratified.
@@ -338,7 +305,7 @@ mod tests {
     }
 
     #[test]
-    fn rays_in_blocks_are_the_single_rays_bit_for_bit() {
+    fn rays_in_packets_are_the_single_rays_bit_for_bit() {
         // Away from the origin, where a lens-centre ray through the focal plane
         // would round differently from the pinhole ray.
         let lens = View {
@@ -351,7 +318,6 @@ mod tests {
             let v = [r.origin, r.dir, r.inv_dir].map(|v| [v.x, v.y, v.z].map(f32::to_bits));
             (v, r.time.to_bits())
         };
-        let mut rays = Vec::new();
         for v in [view(), lens] {
             let c = camera(&v, 7, 5).with_shutter([0.25, 2.0]);
             // 13 samples: a full block of eight and a partial one; lens points at the
@@ -364,10 +330,16 @@ mod tests {
                     time: i as f32 / 13.0,
                 })
                 .collect();
-            c.rays(&samples, &mut rays);
-            assert_eq!(rays.len(), samples.len());
-            for (s, r) in samples.iter().zip(&rays) {
-                assert_eq!(bits(r), bits(&c.ray(s)), "{s:?}");
+            for block in samples.chunks(PACKET) {
+                let rays = c.rays8(block);
+                for (k, s) in block.iter().enumerate() {
+                    assert_eq!(bits(&rays.ray(k)), bits(&c.ray(s)), "{s:?}");
+                }
+                // A partial packet repeats its last ray.
+                let last = c.ray(&block[block.len() - 1]);
+                for k in block.len()..PACKET {
+                    assert_eq!(bits(&rays.ray(k)), bits(&last));
+                }
             }
         }
     }

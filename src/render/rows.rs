@@ -18,7 +18,7 @@ use super::camera::{Camera, CameraSample};
 use super::integrator::{ChosenIntegrator, Integrator, Recorder, TraceContext};
 use super::sampling::{PixelSampler, SampleId};
 use super::{Observer, RenderOptions, Stats};
-use crate::accel::PACKET;
+use crate::accel::{Ray8, PACKET};
 use crate::math::{Ray, Vec3};
 use crate::prepare::RenderScene;
 use crate::scene::View;
@@ -83,7 +83,6 @@ impl<'a> Frame<'a> {
         debug_assert_eq!(xs.len(), sums.len());
         let pixels: Vec<_> = xs.iter().map(|&x| self.sampler.pixel(x, y)).collect();
         let (mut cams, mut ids) = (Vec::with_capacity(xs.len()), Vec::with_capacity(xs.len()));
-        let mut rays = Vec::with_capacity(xs.len());
         for k in samples {
             cams.clear();
             ids.clear();
@@ -92,8 +91,18 @@ impl<'a> Frame<'a> {
                 cams.push(sample);
                 ids.push(id);
             }
-            self.camera.rays(&cams, &mut rays);
-            self.trace_eyes(&rays, &ids, ctx, |i, c| sums[i] += c * weight);
+            let packets = cams.chunks(PACKET).zip(ids.chunks(PACKET));
+            for (p, (cams, ids)) in packets.enumerate() {
+                let packet = self.camera.rays8(cams);
+                let mut rays = [packet.ray(0); PACKET];
+                for (k, ray) in rays.iter_mut().enumerate().take(cams.len()).skip(1) {
+                    *ray = packet.ray(k);
+                }
+                let sums = &mut sums[p * PACKET..];
+                self.trace_packet(&packet, &rays[..cams.len()], ids, ctx, |i, c| {
+                    sums[i] += c * weight
+                });
+            }
         }
     }
 
@@ -106,31 +115,34 @@ impl<'a> Frame<'a> {
             .map(|&x| self.camera.ray_at(x as f32, y as f32))
             .collect();
         let ids: Vec<SampleId> = xs.iter().map(|&x| SampleId::single(x, y)).collect();
-        self.trace_eyes(&rays, &ids, ctx, |_, c| out.push(c));
+        for (rays, ids) in rays.chunks(PACKET).zip(ids.chunks(PACKET)) {
+            self.trace_packet(&Ray8::new(rays), rays, ids, ctx, |_, c| out.push(c));
+        }
     }
 
-    /// Eye rays `rays[i]` of samples `ids[i]`, [`PACKET`] neighbours traced through
-    /// the acceleration structure together (packets find the very hits single rays
-    /// find), each then given to the integrator; calls `done(i, radiance)` in order,
-    /// a NaN or infinite radiance as black.
-    fn trace_eyes(
+    /// Eye rays `rays[i]` of samples `ids[i]` (one to [`PACKET`] of them), packed in
+    /// `packet` too, traced through the acceleration structure together (packets find
+    /// the very hits single rays find), each then given to the integrator; calls
+    /// `done(i, radiance)` in order, a NaN or infinite radiance as black.
+    fn trace_packet(
         &self,
+        packet: &Ray8,
         rays: &[Ray],
         ids: &[SampleId],
         ctx: &mut TraceContext,
         mut done: impl FnMut(usize, Vec3),
     ) {
-        debug_assert_eq!(rays.len(), ids.len());
+        let n = rays.len();
+        debug_assert!((1..=PACKET).contains(&n) && ids.len() == n);
         let mut hits = [None; PACKET];
-        for (c, (packet, ids)) in rays.chunks(PACKET).zip(ids.chunks(PACKET)).enumerate() {
-            let hits = &mut hits[..packet.len()];
-            self.scene.accel().closest_hit_packet(packet, f32::INFINITY, hits);
-            ctx.stats.eye_rays += packet.len() as u64;
-            self.integrator
-                .eye_radiances(packet, hits, ids, ctx, |i, radiance| {
-                    done(c * PACKET + i, finite_or_black(radiance))
-                });
-        }
+        self.scene
+            .accel()
+            .closest_hits8(packet, f32::INFINITY, (1 << n) - 1, &mut hits);
+        ctx.stats.eye_rays += n as u64;
+        self.integrator
+            .eye_radiances(rays, &hits[..n], ids, ctx, |i, radiance| {
+                done(i, finite_or_black(radiance))
+            });
     }
 
     /// The radiance of one eye sample, reported to `rec` (`--pixel`): the ray of

@@ -15,7 +15,7 @@ use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
 use super::shade::{local, Branch, Facets, Rules};
-use crate::accel::{Ray8, PACKET};
+use crate::accel::{RayLanes, PACKET};
 use crate::geometry::{point_error, Hit, Primitive};
 use crate::math::{lanes, Ray, Vec3};
 use crate::prepare::RenderScene;
@@ -451,7 +451,9 @@ impl<'a, M: Rules> Whitted<'a, M> {
             if light.area.is_some() {
                 continue;
             }
-            let mut shadow_rays = [rays[0]; PACKET];
+            // Made in lanes, the packet's form (the lanes of rays not traced are
+            // left as they are: no query reads them).
+            let mut shadow_rays = RayLanes::default();
             let mut active = 0u32;
             for (i, (ray, at)) in rays.iter().zip(ats).enumerate() {
                 let Some(at) = at else { continue };
@@ -459,7 +461,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 let to_light = light.position - at.above;
                 if !behind(at.n, to_light) {
                     active |= 1 << i;
-                    shadow_rays[i] = Ray::with_time(at.above, to_light, ray.time);
+                    shadow_rays.set(i, at.above, to_light, ray.time);
                 }
             }
             if active == 0 {
@@ -470,9 +472,9 @@ impl<'a, M: Rules> Whitted<'a, M> {
             let cached = ctx.eye_shadows_cached >> k & 1 != 0;
             let blocked = match ctx.hint(k, 1) {
                 Some(hint) if cached => lanes(active)
-                    .filter(|&i| accel.occluded_hinted(&shadow_rays[i], 1.0, hint))
+                    .filter(|&i| accel.occluded_hinted(&shadow_rays.ray(i), 1.0, hint))
                     .fold(0, |bits, i| bits | 1 << i),
-                _ => accel.occluded8(&Ray8::new(&shadow_rays[..rays.len()]), &[1.0; PACKET], active),
+                _ => accel.occluded8(&shadow_rays.packet(rays.len()), &[1.0; PACKET], active),
             };
             ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
             ctx.stats.shadow_rays += u64::from(active.count_ones());
@@ -494,36 +496,36 @@ impl<'a, M: Rules> Whitted<'a, M> {
         ctx: &mut TraceContext,
         mut outcome: impl FnMut(Vec3, LightOutcome),
     ) {
-        let Some(&first) = points.first() else {
+        if points.is_empty() {
             return;
-        };
-        let mut rays = [Ray::with_time(at.above, first - at.above, at.time); SHADOW_PACKET];
+        }
+        let mut to_lights = [Vec3::ZERO; SHADOW_PACKET];
+        let mut rays = RayLanes::default();
         let mut active = 0u32;
-        for (k, (ray, &point)) in rays.iter_mut().zip(points).enumerate() {
+        for (k, (to_light, &point)) in to_lights.iter_mut().zip(points).enumerate() {
             // As `light_point` aims it (no ray for a point behind the surface).
-            let to_light = point - at.above;
-            if !behind(at.n, to_light) {
+            *to_light = point - at.above;
+            if !behind(at.n, *to_light) {
                 active |= 1 << k;
+                rays.set(k, at.above, *to_light, at.time);
             }
-            *ray = Ray::with_time(at.above, to_light, at.time);
         }
         let blocked = if active == 0 {
             0
         } else {
-            let packet = Ray8::new(&rays[..points.len()]);
             self.scene
                 .accel()
-                .occluded8(&packet, &[1.0; SHADOW_PACKET], active)
+                .occluded8(&rays.packet(points.len()), &[1.0; SHADOW_PACKET], active)
         };
         ctx.stats.shadow_rays += u64::from(active.count_ones());
         ctx.stats.shadow_blocked += u64::from(blocked.count_ones());
-        for (k, (ray, &point)) in rays.iter().zip(points).enumerate() {
+        for (k, (&to_light, &point)) in to_lights.iter().zip(points).enumerate() {
             let result = if active >> k & 1 == 0 {
                 LightOutcome::Behind
             } else if blocked >> k & 1 != 0 {
                 LightOutcome::Shadowed
             } else {
-                lit::<M>(at, ray.dir, intensity)
+                lit::<M>(at, to_light, intensity)
             };
             outcome(point, result);
         }

@@ -13,10 +13,99 @@ use wide::f32x8;
 
 use super::tri4::{Ray4, Tri4, LANES};
 use crate::geometry::watertight::{watertight, watertight_exact, Axis, Sheared};
-use crate::math::{Ray, Vec3};
+use crate::math::{safe_recip, Ray, Vec3};
 
 /// Rays per [`Ray8`].
 pub const RAYS: usize = 8;
+
+/// Rays made lane by lane, one array per coordinate, before they become a [`Ray8`]:
+/// rays made eight at a time (a camera's, the shadow rays of a packet's hits) need
+/// not be made one by one and then transposed.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayLanes {
+    origin: [[f32; RAYS]; 3],
+    dir: [[f32; RAYS]; 3],
+    inv: [[f32; RAYS]; 3],
+    time: [f32; RAYS],
+}
+
+impl RayLanes {
+    /// Sets ray `k` from `origin` along `dir` at `time`, its inverse direction as
+    /// [`Ray::with_time`] works it out.
+    #[inline(always)]
+    pub fn set(&mut self, k: usize, origin: Vec3, dir: Vec3, time: f32) {
+        let (o, d) = (origin.to_array(), dir.to_array());
+        for axis in 0..3 {
+            self.origin[axis][k] = o[axis];
+            self.dir[axis][k] = d[axis];
+            self.inv[axis][k] = safe_recip(d[axis]);
+        }
+        self.time[k] = time;
+    }
+
+    /// Sets ray `k` to `ray`, field for field.
+    #[inline(always)]
+    pub fn set_ray(&mut self, k: usize, ray: &Ray) {
+        let (o, d, inv) = (ray.origin.to_array(), ray.dir.to_array(), ray.inv_dir.to_array());
+        for axis in 0..3 {
+            self.origin[axis][k] = o[axis];
+            self.dir[axis][k] = d[axis];
+            self.inv[axis][k] = inv[axis];
+        }
+        self.time[k] = ray.time;
+    }
+
+    /// Ray `k` as it was set.
+    #[inline(always)]
+    pub fn ray(&self, k: usize) -> Ray {
+        lane_ray(&self.origin, &self.dir, &self.inv, &self.time, k)
+    }
+
+    /// The packet of the first `n` rays (one to eight; the rays past `n` repeat ray
+    /// `n - 1`).
+    #[inline(always)]
+    pub fn packet(mut self, n: usize) -> Ray8 {
+        assert!((1..=RAYS).contains(&n), "one to {RAYS} rays");
+        for k in n..RAYS {
+            for axis in 0..3 {
+                self.origin[axis][k] = self.origin[axis][n - 1];
+                self.dir[axis][k] = self.dir[axis][n - 1];
+                self.inv[axis][k] = self.inv[axis][n - 1];
+            }
+            self.time[k] = self.time[n - 1];
+        }
+        let mut r = Ray8 {
+            origin: self.origin,
+            dir: self.dir,
+            inv: self.inv,
+            sheared_origin: [[0.0; RAYS]; 3],
+            shear: [[0.0; RAYS]; 3],
+            axes: [[Axis::X; 3]; RAYS],
+            shared_axes: None,
+            time: self.time,
+        };
+        r.shear_all();
+        r
+    }
+}
+
+/// Ray `k` of lanes `[axis][ray]`.
+#[inline(always)]
+fn lane_ray(
+    origin: &[[f32; RAYS]; 3],
+    dir: &[[f32; RAYS]; 3],
+    inv: &[[f32; RAYS]; 3],
+    time: &[f32; RAYS],
+    k: usize,
+) -> Ray {
+    let lane = |a: &[[f32; RAYS]; 3]| Vec3::new(a[0][k], a[1][k], a[2][k]);
+    Ray {
+        origin: lane(origin),
+        dir: lane(dir),
+        inv_dir: lane(inv),
+        time: time[k],
+    }
+}
 
 /// Up to eight rays, `[axis][ray]` (missing rays repeat the last one).
 #[derive(Clone, Copy, Debug)]
@@ -43,30 +132,11 @@ impl Ray8 {
     /// Packs one to eight rays.
     #[inline(always)]
     pub fn new(rays: &[Ray]) -> Ray8 {
-        let n = rays.len();
-        assert!((1..=RAYS).contains(&n), "one to {RAYS} rays");
-        let mut r = Ray8 {
-            origin: [[0.0; RAYS]; 3],
-            dir: [[0.0; RAYS]; 3],
-            inv: [[0.0; RAYS]; 3],
-            sheared_origin: [[0.0; RAYS]; 3],
-            shear: [[0.0; RAYS]; 3],
-            axes: [[Axis::X; 3]; RAYS],
-            shared_axes: None,
-            time: [0.0; RAYS],
-        };
-        for k in 0..RAYS {
-            let ray = &rays[k.min(n - 1)];
-            let (o, d, inv) = (ray.origin.to_array(), ray.dir.to_array(), ray.inv_dir.to_array());
-            for axis in 0..3 {
-                r.origin[axis][k] = o[axis];
-                r.dir[axis][k] = d[axis];
-                r.inv[axis][k] = inv[axis];
-            }
-            r.time[k] = ray.time;
+        let mut lanes = RayLanes::default();
+        for (k, ray) in rays.iter().take(RAYS).enumerate() {
+            lanes.set_ray(k, ray);
         }
-        r.shear_all();
-        r
+        lanes.packet(rays.len())
     }
 
     /// Each ray's frame, as [`Sheared::new`] makes it (the same selections and
@@ -119,13 +189,7 @@ impl Ray8 {
     /// Ray `k` as it was packed (the very same fields).
     #[inline(always)]
     pub fn ray(&self, k: usize) -> Ray {
-        let lane = |a: &[[f32; RAYS]; 3]| Vec3::new(a[0][k], a[1][k], a[2][k]);
-        Ray {
-            origin: lane(&self.origin),
-            dir: lane(&self.dir),
-            inv_dir: lane(&self.inv),
-            time: self.time[k],
-        }
+        lane_ray(&self.origin, &self.dir, &self.inv, &self.time, k)
     }
 
     /// Ray `k`'s frame.
@@ -373,6 +437,42 @@ pub(crate) mod tests {
             }
             let all = (0..RAYS).all(|k| r.axes[k] == r.axes[0]);
             assert_eq!(r.shared_axes, all.then_some(r.axes[0]));
+        }
+    }
+
+    /// Rays set lane by lane from an origin, a direction and a time are, field for
+    /// field, the rays `Ray::with_time` makes (zero and tiny direction components
+    /// included, whose inverses are clamped), and their packet pads with the last.
+    #[test]
+    fn rays_set_in_lanes_are_the_rays_made_one_by_one() {
+        let mut rnd = crate::accel::tests::uniform(0x51ed_270b);
+        let pick = |r: f32| [-1.0, -0.0, 0.0, 1e-31, -1e-31, 0.3, 2.0, -2.5][(r * 8.0) as usize % 8];
+        let bits = |r: &Ray| {
+            let v = [r.origin, r.dir, r.inv_dir].map(|v| v.to_array().map(f32::to_bits));
+            (v, r.time.to_bits())
+        };
+        for p in 0..500 {
+            let n = 1 + p % RAYS;
+            let mut lanes = RayLanes::default();
+            let mut made = Vec::new();
+            for k in 0..n {
+                let o = Vec3::new(rnd() * 4.0 - 2.0, rnd(), -rnd());
+                let d = if p % 2 == 0 {
+                    Vec3::new(pick(rnd()), pick(rnd()), pick(rnd()))
+                } else {
+                    Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5)
+                };
+                let t = rnd();
+                lanes.set(k, o, d, t);
+                made.push(Ray::with_time(o, d, t));
+                assert_eq!(bits(&lanes.ray(k)), bits(&made[k]), "packet {p} ray {k}");
+            }
+            let packet = lanes.packet(n);
+            for k in 0..RAYS {
+                let ray = &made[k.min(n - 1)];
+                assert_eq!(bits(&packet.ray(k)), bits(ray), "packet {p} lane {k}");
+                assert_eq!(packet.sheared(k), Sheared::new(ray), "packet {p} lane {k}");
+            }
         }
     }
 
