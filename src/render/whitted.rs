@@ -15,7 +15,7 @@ use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
 use super::shade::{local, Branch, Facets, Rules};
-use crate::accel::{RayLanes, PACKET};
+use crate::accel::{Ray8, RayLanes, PACKET};
 use crate::geometry::{point_error, Hit, Primitive};
 use crate::math::{lanes, Ray, Vec3};
 use crate::prepare::RenderScene;
@@ -451,9 +451,8 @@ impl<'a, M: Rules> Whitted<'a, M> {
             if light.area.is_some() {
                 continue;
             }
-            // Made in lanes, the packet's form (the lanes of rays not traced are
-            // left as they are: no query reads them).
-            let mut shadow_rays = RayLanes::default();
+            // Made one ray at a time, the form the shadow cache takes them in.
+            let mut shadow_rays = [rays[0]; PACKET];
             let mut active = 0u32;
             for (i, (ray, at)) in rays.iter().zip(ats).enumerate() {
                 let Some(at) = at else { continue };
@@ -461,7 +460,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 let to_light = light.position - at.above;
                 if !behind(at.n, to_light) {
                     active |= 1 << i;
-                    shadow_rays.set(i, at.above, to_light, ray.time);
+                    shadow_rays[i] = Ray::with_time(at.above, to_light, ray.time);
                 }
             }
             if active == 0 {
@@ -472,9 +471,9 @@ impl<'a, M: Rules> Whitted<'a, M> {
             let cached = ctx.eye_shadows_cached >> k & 1 != 0;
             let blocked = match ctx.hint(k, 1) {
                 Some(hint) if cached => lanes(active)
-                    .filter(|&i| accel.occluded_hinted(&shadow_rays.ray(i), 1.0, hint))
+                    .filter(|&i| accel.occluded_hinted(&shadow_rays[i], 1.0, hint))
                     .fold(0, |bits, i| bits | 1 << i),
-                _ => accel.occluded8(&shadow_rays.packet(rays.len()), &[1.0; PACKET], active),
+                _ => accel.occluded8(&Ray8::new(&shadow_rays[..rays.len()]), &[1.0; PACKET], active),
             };
             ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
             ctx.stats.shadow_rays += u64::from(active.count_ones());
@@ -507,8 +506,11 @@ impl<'a, M: Rules> Whitted<'a, M> {
             *to_light = point - at.above;
             if !behind(at.n, *to_light) {
                 active |= 1 << k;
-                rays.set(k, at.above, *to_light, at.time);
             }
+            // Every lane set, traced or not: rays from one hit to one light share
+            // their frame's axes, and the packet's leaf tests take the shorter path
+            // when all eight do (`Ray8::shared_axes`).
+            rays.set(k, at.above, *to_light, at.time);
         }
         let blocked = if active == 0 {
             0
