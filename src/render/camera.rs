@@ -179,10 +179,11 @@ impl Camera {
     }
 
     /// The eye rays of one to eight `samples`, as a packet: bit for bit
-    /// [`Camera::ray`] of each, made in lanes without a branch (one array per
-    /// coordinate), which lets the compiler use vector instructions for the lens
-    /// map's and the normalization's divisions and square roots, most of a lens ray's
-    /// cost, and hands the packet to the acceleration structure as it is.
+    /// [`Camera::ray`] of each, made in lanes (one array per coordinate; a lens ray
+    /// chooses its start and direction without a branch), which lets the compiler
+    /// use vector instructions for the lens map's and the normalization's divisions
+    /// and square roots, most of a lens ray's cost, and hands the packet to the
+    /// acceleration structure as it is.
     pub fn rays8(&self, samples: &[CameraSample]) -> Ray8 {
         let n = samples.len();
         assert!((1..=PACKET).contains(&n), "one to {PACKET} samples");
