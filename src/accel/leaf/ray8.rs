@@ -1,6 +1,8 @@
 //! Eight rays in structure-of-arrays form, tested together against one triangle of a
 //! [`Tri4`] block: the leaf test of a packet; and the eight triangles of two blocks
-//! tested together against one ray ([`pair_hits`]).
+//! tested together against one ray ([`pair_hits`]). Rays made eight at a time (the
+//! camera's, an area light's points seen from one hit) are set lane by lane
+//! ([`RayLanes`]) and become a packet without passing through single rays.
 //!
 //! Each (ray, triangle) pair goes through exactly the arithmetic of the 4-lane
 //! [`Tri4`] test (the generic [`watertight`], same operations in the same order, no
