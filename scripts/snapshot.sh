@@ -40,6 +40,13 @@ cases+=("p3f-2019-balls_area_low-spp1|$shared/p3f/2019/balls_area_low.p3f|--spp 
 cases+=("p3f-2019-balls_area_low-ls3|$shared/p3f/2019/balls_area_low.p3f|--light-samples 3")
 cases+=("p3f-2019-dof-spp9|$shared/p3f/2019/dof.p3f|--spp 9")
 cases+=("p3f-2025-balls_low-spp5-depth3|$shared/p3f/2025/balls_low.p3f|--spp 5 --max-depth 3")
+# The path tracer: an emitter sampled by area (the Cornell box), Beer-Lambert glass
+# (glass-row), Shirley's weekend scene (rough metals, moving spheres), a course
+# scene's point lights.
+cases+=("path-cornell-spp4|examples/cornell.p3f|--spp 4")
+cases+=("path-glass-row-spp4|examples/glass-row.p3f|--spp 4")
+cases+=("path-weekend-spp2|examples/weekend.p3f|--spp 2")
+cases+=("path-2025-balls_low-spp3|$shared/p3f/2025/balls_low.p3f|--integrator path --spp 3")
 
 for c in "${cases[@]}"; do
     IFS='|' read -r name scene flags <<< "$c"
