@@ -58,7 +58,7 @@ impl Sampling {
         let count = self.samples_per_pixel();
         PixelSampler {
             strata: Strata::new(count),
-            count,
+            order: Permutation::new(count),
             stratified: !matches!(self, Sampling::Independent { .. }),
             jittered: !matches!(self, Sampling::PixelCenters | Sampling::SpdCorners),
             lens,
@@ -151,7 +151,8 @@ impl Strata {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PixelSampler {
     strata: Strata,
-    count: u32,
+    /// The permutations of the strata, [`Permutation::count`] of them.
+    order: Permutation,
     stratified: bool,
     /// False for one fixed sample per pixel: every dimension at its centre.
     jittered: bool,
@@ -164,7 +165,7 @@ pub struct PixelSampler {
 impl PixelSampler {
     /// Samples per pixel.
     pub fn count(&self) -> u32 {
-        self.count
+        self.order.count()
     }
 
     /// Sample `index` of pixel `(x, y)`: where its eye ray goes, and its id.
@@ -200,7 +201,7 @@ impl PixelSampler {
         let id = SampleId {
             key,
             index,
-            count: self.count,
+            order: self.order,
             stratified: self.stratified,
             jittered: self.jittered,
             strata: self.strata,
@@ -293,6 +294,7 @@ impl Dim {
     /// A distinct number per dimension (the pixel's is 0, which keeps the pixel
     /// positions of the sampler before dimensions existed; lights' stay below 2^40,
     /// the later dimensions take the top bits).
+    #[inline(always)]
     fn key(self) -> u64 {
         match self {
             Dim::Pixel => 0,
@@ -319,8 +321,9 @@ pub struct SampleId {
     key: u64,
     /// Index of this sample among the pixel's.
     index: u32,
-    /// The pixel's number of samples.
-    count: u32,
+    /// The permutations of the pixel's strata, one per sample
+    /// ([`Permutation::count`]: the pixel's number of samples).
+    order: Permutation,
     /// False for [`Sampling::Independent`]: no strata, every number independent.
     stratified: bool,
     /// False for one fixed sample per pixel: every dimension at its centre.
@@ -344,7 +347,7 @@ impl SampleId {
         SampleId {
             key,
             index,
-            count,
+            order: Permutation::new(count),
             stratified,
             jittered: true,
             strata: Strata::new(count),
@@ -359,7 +362,7 @@ impl SampleId {
         SampleId {
             key: pixel_key(x, y),
             index: 0,
-            count: 1,
+            order: Permutation::new(1),
             stratified: true,
             jittered: false,
             strata: Strata { cols: 1, rows: 1 },
@@ -374,7 +377,7 @@ impl SampleId {
 
     /// The pixel's number of samples.
     pub fn count(&self) -> u32 {
-        self.count
+        self.order.count()
     }
 
     /// False for one fixed sample per pixel ([`SampleId::single`], pixel centres):
@@ -388,7 +391,7 @@ impl SampleId {
     /// centre; otherwise, stratified, a jittered point of stratum `π(index)` of the
     /// pixel's `count` strata ([`Strata::new`]'s grid), `π` a permutation hashed per
     /// pixel and dimension; independent, a uniform point.
-    #[inline]
+    #[inline(always)]
     pub fn point(&self, dim: Dim) -> (f32, f32) {
         if !self.jittered {
             return (0.5, 0.5);
@@ -400,7 +403,7 @@ impl SampleId {
     /// otherwise, stratified, a jittered point of stratum `π(index)` of `count` equal
     /// intervals, `π` a permutation hashed per pixel and dimension; independent, a
     /// uniform number.
-    #[inline]
+    #[inline(always)]
     pub fn value(&self, dim: Dim) -> f32 {
         if !self.jittered {
             return 0.5;
@@ -409,9 +412,9 @@ impl SampleId {
         if !self.stratified {
             return offset;
         }
-        let stratum = permute(self.index, self.count, permutation_seed(self.key, dim));
-        // Below 1 even when the float sum rounds up to `count`.
-        ((stratum as f32 + offset) / self.count as f32).min(ONE_BELOW)
+        let stratum = self.order.apply(self.index, permutation_seed(self.key, dim));
+        // Below 1 even when the float sum rounds up to the count.
+        ((stratum as f32 + offset) / self.order.count() as f32).min(ONE_BELOW)
     }
 
     /// [`sample_2d`] of this sample's pixel for number `s` (not necessarily the
@@ -429,7 +432,7 @@ impl SampleId {
         if !self.stratified {
             return offset;
         }
-        let stratum = permute(self.index, self.count, seed);
+        let stratum = self.order.apply(self.index, seed);
         self.strata.point(stratum, offset)
     }
 }
@@ -494,34 +497,71 @@ fn hashed_2d(pixel_hash: u64, s: u32, dim: Dim) -> (f32, f32) {
     (hi as f32 * scale, lo as f32 * scale)
 }
 
-/// Element `i` of a random permutation of `0..n` chosen by `seed` (`i < n`): a
-/// bijective hash of the bits below `n`'s next power of two, applied again until the
-/// value falls below `n` (cycle walking; Kensler, "Correlated Multi-Jittered
-/// Sampling", 2013). Every step below is invertible on those bits, so the result is
-/// a permutation, and cycle walking stays inside the cycle of `i`.
+/// Element `i` of a random permutation of `0..n` chosen by `seed` (`i < n`):
+/// [`Permutation::apply`] of `Permutation::new(n)`.
 #[inline]
 pub fn permute(i: u32, n: u32, seed: u32) -> u32 {
-    debug_assert!(i < n);
-    if n <= 1 {
-        return 0;
+    Permutation::new(n).apply(i, seed)
+}
+
+/// The random permutations of `0..n`, one per seed (see [`Permutation::apply`]), with
+/// what their hash needs of `n` worked out once: a sampler draws every permutation of
+/// a render for the same `n`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Permutation {
+    n: u32,
+    /// All ones below `n`'s next power of two: the bits the hash works on.
+    mask: u32,
+    /// The hash's right shifts: by half of `mask`'s bits and a third (each at least
+    /// one), and by one more than half.
+    shifts: [u32; 3],
+}
+
+impl Permutation {
+    /// The permutations of `0..n` (`n` at most 2^31).
+    pub fn new(n: u32) -> Permutation {
+        let mask = n.max(1).next_power_of_two() - 1;
+        // The bits of `mask` (all ones): by its leading zeros, as baseline x86-64 has
+        // no popcount instruction.
+        let bits = u32::BITS - mask.leading_zeros();
+        Permutation {
+            n,
+            mask,
+            shifts: [(bits / 2).max(1), (bits / 3).max(1), 1 + bits / 2],
+        }
     }
-    let mask = n.next_power_of_two() - 1;
-    // The bits of `mask` (all ones): by its leading zeros, as baseline x86-64 has no
-    // popcount instruction.
-    let bits = u32::BITS - mask.leading_zeros();
-    let mut v = i;
-    loop {
-        v ^= seed & mask;
-        v = v.wrapping_mul(0xE170_893D) & mask;
-        v ^= (seed >> 16) & mask;
-        v ^= v >> (bits / 2).max(1);
-        v = v.wrapping_add(seed >> 8) & mask;
-        v = v.wrapping_mul(0x0929_EB3F) & mask;
-        v ^= v >> (bits / 3).max(1);
-        v = v.wrapping_mul(1 | (seed >> 27)) & mask;
-        v ^= v >> (1 + bits / 2);
-        if v < n {
-            return v;
+
+    /// How many elements are permuted.
+    pub fn count(&self) -> u32 {
+        self.n
+    }
+
+    /// Element `i` of the permutation chosen by `seed` (`i < n`): a bijective hash of
+    /// the bits below `n`'s next power of two, applied again until the value falls
+    /// below `n` (cycle walking; Kensler, "Correlated Multi-Jittered Sampling", 2013).
+    /// Every step below is invertible on those bits, so the result is a permutation,
+    /// and cycle walking stays inside the cycle of `i`.
+    #[inline(always)]
+    pub fn apply(&self, i: u32, seed: u32) -> u32 {
+        let Permutation { n, mask, shifts } = *self;
+        debug_assert!(i < n);
+        if n <= 1 {
+            return 0;
+        }
+        let mut v = i;
+        loop {
+            v ^= seed & mask;
+            v = v.wrapping_mul(0xE170_893D) & mask;
+            v ^= (seed >> 16) & mask;
+            v ^= v >> shifts[0];
+            v = v.wrapping_add(seed >> 8) & mask;
+            v = v.wrapping_mul(0x0929_EB3F) & mask;
+            v ^= v >> shifts[1];
+            v = v.wrapping_mul(1 | (seed >> 27)) & mask;
+            v ^= v >> shifts[2];
+            if v < n {
+                return v;
+            }
         }
     }
 }
