@@ -34,18 +34,25 @@ const SHADOW_SHORTFALL: f32 = 1e-4;
 pub struct PathTracer<'a> {
     scene: &'a RenderScene,
     max_depth: u32,
-    /// False: every surface smooth.
-    roughness: bool,
+    /// Each material's BSDF seen from outside and from inside (`[leaving,
+    /// entering]`: whether the ray meets the side of the primitive's own normal),
+    /// worked out once.
+    bsdfs: Vec<[Bsdf; 2]>,
 }
 
 impl<'a> PathTracer<'a> {
     /// Traces `scene` with paths of at most `max_depth` segments, rough surfaces
     /// rough unless `roughness` is false.
     pub fn new(scene: &'a RenderScene, max_depth: u32, roughness: bool) -> Self {
+        let bsdfs = scene
+            .materials()
+            .iter()
+            .map(|m| [false, true].map(|entering| Bsdf::new(m, entering, roughness)))
+            .collect();
         PathTracer {
             scene,
             max_depth,
-            roughness,
+            bsdfs,
         }
     }
 }
@@ -145,7 +152,7 @@ impl Integrator for PathTracer<'_> {
             let wo_world = -ray.dir.normalize();
             let frame = Frame::new(if ns.dot(wo_world) > 0.0 { ns } else { n });
             let wo = frame.to_local(wo_world);
-            let bsdf = Bsdf::new(m, entering, self.roughness);
+            let bsdf = &self.bsdfs[prim.material as usize][usize::from(entering)];
             if bsdf.is_black() {
                 break;
             }
@@ -163,7 +170,7 @@ impl Integrator for PathTracer<'_> {
                     time: ray.time,
                     depth,
                 };
-                let direct = self.light_sample(&bsdf, &at, id, ctx, rec);
+                let direct = self.light_sample(bsdf, &at, id, ctx, rec);
                 radiance += throughput.mul_elem(direct);
             }
             let Some(sample) = bsdf.sample(wo, id.value(Dim::Lobe { depth }), id.point(Dim::Bsdf { depth }))
