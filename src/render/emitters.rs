@@ -42,7 +42,25 @@ pub enum Emitter {
         /// The total intensity of its points.
         intensity: Vec3,
     },
-    /// Emissive primitive `primitive` (as the acceleration structure numbers it).
+    /// Emissive triangle `primitive` (of a polygon, patch or mesh, as the
+    /// acceleration structure numbers it), with what sampling it needs worked out
+    /// once.
+    Triangle {
+        /// The primitive.
+        primitive: u32,
+        /// The radiance it emits on the side of its own normal.
+        radiance: Vec3,
+        /// Its area.
+        area: f32,
+        /// Its first vertex.
+        v0: Vec3,
+        /// Its edges from `v0` to the second and third vertices.
+        edges: (Vec3, Vec3),
+        /// Its own unit normal.
+        normal: Vec3,
+    },
+    /// Emissive primitive `primitive` (as the acceleration structure numbers it),
+    /// other than a triangle.
     Surface {
         /// The primitive.
         primitive: u32,
@@ -115,10 +133,24 @@ impl Emitters {
                     continue;
                 };
                 of_primitive[i] = list.len() as u32;
-                list.push(Emitter::Surface {
-                    primitive: i as u32,
-                    radiance: materials[p.material as usize].emission,
-                    area,
+                let (primitive, radiance) = (i as u32, materials[p.material as usize].emission);
+                list.push(match &p.shape {
+                    Shape::Triangle(t) => {
+                        let edges = t.edges();
+                        Emitter::Triangle {
+                            primitive,
+                            radiance,
+                            area,
+                            v0: t.v0,
+                            edges,
+                            normal: edges.0.cross(edges.1).normalize(),
+                        }
+                    }
+                    _ => Emitter::Surface {
+                        primitive,
+                        radiance,
+                        area,
+                    },
                 });
             }
         }
@@ -128,7 +160,9 @@ impl Emitters {
                 Emitter::Point { intensity, .. } | Emitter::Quad { intensity, .. } => {
                     4.0 * PI * mean(intensity)
                 }
-                Emitter::Surface { radiance, area, .. } => PI * mean(radiance) * area,
+                Emitter::Triangle { radiance, area, .. } | Emitter::Surface { radiance, area, .. } => {
+                    PI * mean(radiance) * area
+                }
             })
             .map(|p| p.max(0.0))
             .collect();
@@ -175,7 +209,9 @@ impl Emitters {
     pub fn of_primitive(&self, primitive: u32) -> Option<(f32, f32)> {
         let k = *self.of_primitive.get(primitive as usize)?;
         match self.list.get(k as usize)? {
-            Emitter::Surface { area, .. } => Some((self.pmf(k as usize), *area)),
+            Emitter::Triangle { area, .. } | Emitter::Surface { area, .. } => {
+                Some((self.pmf(k as usize), *area))
+            }
             _ => None,
         }
     }
@@ -203,28 +239,60 @@ impl Emitters {
                 from,
                 pmf,
             )),
+            Emitter::Triangle {
+                radiance,
+                area,
+                v0,
+                edges,
+                normal,
+                ..
+            } => area_sample(triangle_point(v0, edges, u), normal, radiance, area, from, pmf),
             Emitter::Surface {
                 primitive,
                 radiance,
                 area,
             } => {
                 let (point, normal) = sample_point(accel.primitive(primitive), u)?;
-                let to = point - from;
-                let d2 = to.length_squared();
-                let cos_light = -normal.dot(to) / d2.sqrt();
-                if cos_light <= 0.0 || d2 == 0.0 {
-                    return None;
-                }
-                // Area density 1 / area, per solid angle: d^2 / (cos_light area).
-                let pdf = pmf * d2 / (cos_light * area);
-                Some(LightSample {
-                    point,
-                    incoming: radiance * (1.0 / pdf),
-                    pdf: Some(pdf),
-                })
+                area_sample(point, normal, radiance, area, from, pmf)
             }
         }
     }
+}
+
+/// `point` of an emitter of radiance `radiance` and area `area` (chosen with
+/// probability `pmf`), where its own unit normal is `normal`, as seen from `from`;
+/// `None` if `from` is behind it.
+#[inline(always)]
+fn area_sample(
+    point: Vec3,
+    normal: Vec3,
+    radiance: Vec3,
+    area: f32,
+    from: Vec3,
+    pmf: f32,
+) -> Option<LightSample> {
+    let to = point - from;
+    let d2 = to.length_squared();
+    let cos_light = -normal.dot(to) / d2.sqrt();
+    if cos_light <= 0.0 || d2 == 0.0 {
+        return None;
+    }
+    // Area density 1 / area, per solid angle: d^2 / (cos_light area).
+    let pdf = pmf * d2 / (cos_light * area);
+    Some(LightSample {
+        point,
+        incoming: radiance * (1.0 / pdf),
+        pdf: Some(pdf),
+    })
+}
+
+/// The point of the triangle of first vertex `v0` and edges `(e1, e2)` from it for
+/// the numbers `u`, uniform on the triangle: barycentrics (1 - sqrt(u1),
+/// sqrt(u1) (1 - u2), sqrt(u1) u2).
+#[inline(always)]
+fn triangle_point(v0: Vec3, (e1, e2): (Vec3, Vec3), (u1, u2): (f32, f32)) -> Vec3 {
+    let s = u1.sqrt();
+    v0 + e1 * (s * (1.0 - u2)) + e2 * (s * u2)
 }
 
 /// A point that shines `intensity` in every direction, seen from `from`.
@@ -253,18 +321,11 @@ fn sample_area(p: &Primitive) -> Option<f32> {
     }
 }
 
-/// A point of a primitive sampled by area, uniformly, for the numbers `u`, and the
-/// primitive's own unit normal there.
+/// A point of a sphere or box sampled by area, uniformly, for the numbers `u`, and
+/// the primitive's own unit normal there (triangles are [`Emitter::Triangle`]s,
+/// sampled by [`triangle_point`]).
 fn sample_point(p: &Primitive, (u1, u2): (f32, f32)) -> Option<(Vec3, Vec3)> {
     match &p.shape {
-        Shape::Triangle(t) => {
-            // Uniform on the triangle: barycentrics (1 - sqrt(u1), sqrt(u1) (1 - u2),
-            // sqrt(u1) u2).
-            let s = u1.sqrt();
-            let (e1, e2) = t.edges();
-            let point = t.v0 + e1 * (s * (1.0 - u2)) + e2 * (s * u2);
-            Some((point, e1.cross(e2).normalize()))
-        }
         Shape::Sphere(s) => {
             let z = 1.0 - 2.0 * u1;
             let r = (1.0 - z * z).max(0.0).sqrt();
