@@ -140,6 +140,13 @@ impl Bsdf {
         self.choice == [0.0; 3]
     }
 
+    /// True if [`Bsdf::sample`]'s `lobe` number can change its outcome: false when
+    /// one diffuse or mirror lobe is all there is (whatever number in [0, 1) then
+    /// chooses it), so a caller need not draw one.
+    pub fn needs_lobe_number(&self) -> bool {
+        !matches!(self.choice, [1.0, 0.0, 0.0] | [0.0, 1.0, 0.0])
+    }
+
     /// True if some lobe spreads light over directions (a light can be sampled).
     pub fn has_spread(&self) -> bool {
         self.choice[0] > 0.0 || (self.rough.is_some() && (self.choice[1] > 0.0 || self.choice[2] > 0.0))
@@ -356,6 +363,45 @@ mod tests {
         let c = 45f32.to_radians().cos();
         assert_eq!(fresnel_dielectric(c, 1.0 / 1.5), 1.0);
         assert!(fresnel_dielectric(41f32.to_radians().cos(), 1.0 / 1.5) < 1.0);
+    }
+
+    /// A BSDF of one diffuse or mirror lobe (smooth or rough, any colour) samples
+    /// the same whatever its lobe number, as `needs_lobe_number` says; with two
+    /// lobes, or a dielectric's reflection and transmission, the number decides.
+    #[test]
+    fn the_lobe_number_matters_only_when_it_chooses() {
+        let wo = Vec3::new(0.3, -0.2, 0.93).normalize();
+        let lobes = [0.0, 0.25, 0.5, 0.75, 1.0 - f32::EPSILON / 2.0];
+        let samples = |b: &Bsdf, u| lobes.map(|lobe| b.sample(wo, lobe, u));
+        let single = [
+            material(0.7, 0.0, 0.0, 1.0, 0.0),
+            material(0.7, 0.0, 0.0, 1.0, 0.4),
+            material(0.0, 0.8, 0.0, 1.0, 0.0),
+            material(0.0, 0.8, 0.0, 1.0, 0.4),
+        ];
+        for m in &single {
+            let b = Bsdf::new_test(m, true);
+            assert!(!b.needs_lobe_number(), "{m:?}");
+            for (_, u1, u2) in uniforms(200, 3) {
+                let s = samples(&b, (u1, u2));
+                assert!(s.iter().all(|x| *x == s[0]), "{m:?}: {s:?}");
+            }
+        }
+        let mixed = [
+            material(0.5, 0.5, 0.0, 1.0, 0.0),
+            material(0.0, 0.0, 1.0, 1.5, 0.0),
+            material(0.0, 0.0, 1.0, 1.5, 0.3),
+            material(0.4, 0.0, 0.6, 1.5, 0.0),
+        ];
+        for m in &mixed {
+            let b = Bsdf::new_test(m, true);
+            assert!(b.needs_lobe_number(), "{m:?}");
+            let differs = uniforms(200, 3).any(|(_, u1, u2)| {
+                let s = samples(&b, (u1, u2));
+                s.iter().any(|x| *x != s[0])
+            });
+            assert!(differs, "{m:?}");
+        }
     }
 
     /// The directional albedo `E[weight]` of lobes that conserve energy: the

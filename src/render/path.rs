@@ -173,8 +173,12 @@ impl Integrator for PathTracer<'_> {
                 let direct = self.light_sample(bsdf, &at, id, ctx, rec);
                 radiance += throughput.mul_elem(direct);
             }
-            let Some(sample) = bsdf.sample(wo, id.value(Dim::Lobe { depth }), id.point(Dim::Bsdf { depth }))
-            else {
+            let lobe = if bsdf.needs_lobe_number() {
+                id.value(Dim::Lobe { depth })
+            } else {
+                0.0
+            };
+            let Some(sample) = bsdf.sample(wo, lobe, id.point(Dim::Bsdf { depth })) else {
                 break;
             };
             let dir = frame.to_world(sample.wi);
