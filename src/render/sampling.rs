@@ -151,7 +151,8 @@ impl Strata {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PixelSampler {
     strata: Strata,
-    /// The permutations of the strata, [`Permutation::count`] of them.
+    /// The strata's random orders (one per pixel and dimension, by its seed); its
+    /// [`Permutation::count`] is the number of samples per pixel.
     order: Permutation,
     stratified: bool,
     /// False for one fixed sample per pixel: every dimension at its centre.
@@ -321,8 +322,8 @@ pub struct SampleId {
     key: u64,
     /// Index of this sample among the pixel's.
     index: u32,
-    /// The permutations of the pixel's strata, one per sample
-    /// ([`Permutation::count`]: the pixel's number of samples).
+    /// The random orders of the pixel's strata (one per dimension, by its seed); its
+    /// [`Permutation::count`] is the pixel's number of samples.
     order: Permutation,
     /// False for [`Sampling::Independent`]: no strata, every number independent.
     stratified: bool,
