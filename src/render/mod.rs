@@ -42,7 +42,9 @@ pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
 pub use request::{image_size, RenderRequest, Resolved};
 pub use rows::Frame;
-pub use sampling::{permute, sample_2d, Dim, PixelSampler, PixelSeeds, SampleId, Sampling, Strata};
+pub use sampling::{
+    permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Sampling, Strata,
+};
 pub use shade::{Branch, Facets, Lighting, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 
