@@ -447,12 +447,13 @@ impl<'a, M: Rules> Whitted<'a, M> {
             },
             blocked: [0; PACKET_LIGHTS],
         };
+        // Made one ray at a time, the form the shadow cache takes them in; a lane
+        // without a ray to this light keeps whatever it held (outside `active`).
+        let mut shadow_rays = [rays[0]; PACKET];
         for (k, light) in lights.iter().enumerate().take(shadows.lights) {
             if light.area.is_some() {
                 continue;
             }
-            // Made one ray at a time, the form the shadow cache takes them in.
-            let mut shadow_rays = [rays[0]; PACKET];
             let mut active = 0u32;
             for (i, (ray, at)) in rays.iter().zip(ats).enumerate() {
                 let Some(at) = at else { continue };
