@@ -42,12 +42,10 @@ pub enum Emitter {
         /// The total intensity of its points.
         intensity: Vec3,
     },
-    /// Emissive triangle `primitive` (of a polygon, patch or mesh, as the
-    /// acceleration structure numbers it), with what sampling it needs worked out
-    /// once.
+    /// An emissive triangle (of a polygon, patch or mesh), with what sampling it
+    /// needs worked out once (its primitive's index maps to it through
+    /// [`Emitters::of_primitive`]).
     Triangle {
-        /// The primitive.
-        primitive: u32,
         /// The radiance it emits on the side of its own normal.
         radiance: Vec3,
         /// Its area.
@@ -133,12 +131,11 @@ impl Emitters {
                     continue;
                 };
                 of_primitive[i] = list.len() as u32;
-                let (primitive, radiance) = (i as u32, materials[p.material as usize].emission);
+                let radiance = materials[p.material as usize].emission;
                 list.push(match &p.shape {
                     Shape::Triangle(t) => {
                         let edges = t.edges();
                         Emitter::Triangle {
-                            primitive,
                             radiance,
                             area,
                             v0: t.v0,
@@ -147,7 +144,7 @@ impl Emitters {
                         }
                     }
                     _ => Emitter::Surface {
-                        primitive,
+                        primitive: i as u32,
                         radiance,
                         area,
                     },
@@ -245,7 +242,6 @@ impl Emitters {
                 v0,
                 edges,
                 normal,
-                ..
             } => area_sample(triangle_point(v0, edges, u), normal, radiance, area, from, pmf),
             Emitter::Surface {
                 primitive,
