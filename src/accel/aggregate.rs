@@ -3,8 +3,9 @@
 //! course asks for the switch "in order to compare rendering performance".
 //!
 //! All three answer over the same primitives, numbered as the BVH's leaves, with the
-//! same tie rule, so they give the same pictures byte for byte; the grid and the scan
-//! therefore reuse the BVH's ordering, and preparing them builds the BVH first.
+//! same tie rule (the primitive first in the scene, `traverse::nearest`), so they give
+//! the same pictures byte for byte; the grid and the scan reuse the BVH's numbering
+//! and ranks, and preparing them builds the BVH first.
 
 use std::cell::Cell;
 

@@ -35,6 +35,12 @@ pub struct Bvh {
     pub(super) cone4: Vec<Cone4>,
     /// Bounded primitives in leaf order, then the unbounded ones.
     pub(super) primitives: Vec<Primitive>,
+    /// Each primitive's rank, by its index in [`Bvh::primitives`]: its source line in
+    /// the high 32 bits, its index in the `Geometry` built from in the low ones (a
+    /// split cone's copies share theirs). Ties in distance go to the lowest rank
+    /// (`traverse::nearest`): the primitive first in the scene file, whatever order
+    /// the builder puts the leaves in.
+    pub(super) ranks: Vec<u64>,
     pub(super) bounded: usize,
     /// With split cones (`accel::build::split`), which leaf-order entries are copies of one
     /// primitive; `None` when every primitive is in the tree once.
@@ -62,10 +68,21 @@ impl Bvh {
         // scenes, nothing moves. The big arrays below are filled in parallel (their
         // first-touch page faults were a third of building 600 000 spheres).
         let is_unbounded = |p: &Primitive| p.bounds(&data).is_none();
+        let mut ranks: Vec<u64> = bounded
+            .par_iter()
+            .enumerate()
+            .map(|(i, p)| u64::from(p.line) << 32 | i as u64)
+            .collect();
         let mut unbounded = Vec::new();
+        let mut unbounded_ranks = Vec::new();
         if bounded.par_iter().any(is_unbounded) {
-            unbounded = bounded.iter().copied().filter(is_unbounded).collect();
-            bounded.retain(|p| !is_unbounded(p));
+            let (aside, kept): (Vec<_>, Vec<_>) = bounded
+                .iter()
+                .copied()
+                .zip(ranks)
+                .partition(|(p, _)| is_unbounded(p));
+            (unbounded, unbounded_ranks) = aside.into_iter().unzip();
+            (bounded, ranks) = kept.into_iter().unzip();
         }
         let bounds = |i: usize| bounded[i].bounds(&data).expect("unbounded primitives set aside");
         // Triangles and spheres are intersected several at a time (in blocks), which
@@ -83,6 +100,8 @@ impl Bvh {
             None => built.order,
         };
         drop(refs);
+        let mut ranks: Vec<u64> = order.par_iter().map(|&i| ranks[i as usize]).collect();
+        ranks.extend(unbounded_ranks);
         // The primitives in leaf order, then the unbounded ones.
         let mut ordered: Vec<Primitive> = huge_vec(order.len() + unbounded.len());
         order
@@ -112,6 +131,7 @@ impl Bvh {
             sphere4,
             cone4,
             primitives: ordered,
+            ranks,
             bounded: n_bounded,
             copies,
             data,

@@ -51,14 +51,19 @@ pub struct BvhStats {
 }
 
 impl Bvh {
-    /// Reference query: tests every primitive (for tests and validation only).
+    /// Reference query: tests every primitive (for tests and validation only), and
+    /// keeps the nearest hit, of equals the one of the lowest rank (the queries' rule,
+    /// written out apart from `Nearest`; a split cone's copies share a rank, so the
+    /// first copy's index is kept).
     pub fn closest_hit_linear(&self, ray: &Ray, t_max: f32) -> Option<(Hit, u32)> {
-        let mut best = None;
-        let mut t_best = t_max;
+        let mut best: Option<(Hit, u32)> = None;
         for (i, p) in self.primitives.iter().enumerate() {
-            if let Some(h) = p.intersect(ray, t_best, &self.data) {
-                t_best = h.t;
-                best = Some((h, i as u32));
+            if let Some(h) = p.intersect(ray, t_max, &self.data) {
+                let nearer = best
+                    .is_none_or(|(b, j)| h.t < b.t || (h.t == b.t && self.ranks[i] < self.ranks[j as usize]));
+                if nearer {
+                    best = Some((h, i as u32));
+                }
             }
         }
         best

@@ -5,7 +5,7 @@
 //!
 //! The grid indexes the primitives of a [`Bvh`] (its leaf order, each split cone
 //! once), so that its queries report the same indices and break ties by the same rule
-//! ([`Nearest`]) as the BVH's: the pictures are the same bytes.
+//! ([`Nearest`], with the BVH's ranks) as the BVH's: the pictures are the same bytes.
 //!
 //! **Resolution rule** (as pbrt's first edition): `3 ∛N` cells along the longest axis
 //! of the primitives' bounds, `N` the number of bounded primitives, and cells as near
@@ -194,7 +194,7 @@ impl Grid {
         t_max: f32,
         tally: &mut T,
     ) -> Option<(Hit, u32)> {
-        let mut nearest = Nearest::new(t_max);
+        let mut nearest = Nearest::new(t_max, &bvh.ranks);
         bvh.unbounded_closest(ray, &mut nearest, tally);
         MAILBOX.with_borrow_mut(|mailbox| {
             mailbox.start(self.id, bvh.bounded);

@@ -41,7 +41,7 @@ impl Bvh {
 
     /// The nearest hit with `0 < t < t_max`, every primitive tested.
     pub fn scan_closest<T: Tally>(&self, ray: &Ray, t_max: f32, tally: &mut T) -> Option<(Hit, u32)> {
-        let mut nearest = Nearest::new(t_max);
+        let mut nearest = Nearest::new(t_max, &self.ranks);
         for i in self.distinct_bounded() {
             tally.prims(1);
             if let Some(h) = self.primitives[i as usize].intersect(ray, nearest.limit, &self.data) {

@@ -7,8 +7,8 @@
 //! part of the side; the leaves then hold the whole cone once per piece, so a ray
 //! tests it in whichever leaf it enters first, and finds the same hit in every one.
 //! Queries report a split cone by the index of its first copy in leaf order
-//! ([`Copies::canonical`]), so copies never compete as different primitives (ties
-//! go to the lowest index, `traverse::nearest`).
+//! ([`Copies::canonical`]), and its copies share one rank (its place in the scene),
+//! so they never compete as different primitives (`traverse::nearest`).
 
 use rayon::prelude::*;
 

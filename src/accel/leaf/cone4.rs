@@ -258,7 +258,7 @@ mod tests {
     fn empty_lanes_are_never_hit() {
         let block = Cone4::new(&[]);
         let ray = Ray4::new(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)));
-        assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
+        assert_eq!(block.closest_hit(&ray, f32::INFINITY, &[]), None);
         assert!(!block.any_hit(&ray, f32::INFINITY));
     }
 

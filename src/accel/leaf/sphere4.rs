@@ -5,8 +5,8 @@
 //! four spheres where the primitives take 64 bytes each. Every lane performs exactly
 //! the arithmetic of the scalar [`SphereShape::intersect`] (same operations in the same
 //! order, no fused multiply-add), so hits and distances are bit-identical to the
-//! scalar test's, and ties go to the lowest lane as they go to the first primitive in
-//! the scalar loop.
+//! scalar test's, and ties go to the lane whose primitive has the lowest rank, as they
+//! go to that primitive in the scalar loop (`traverse::nearest`).
 
 use wide::f32x4;
 
@@ -170,7 +170,7 @@ mod tests {
     fn empty_lanes_are_never_hit() {
         let block = Sphere4::new(&[]);
         let ray = Ray4::new(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)));
-        assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
+        assert_eq!(block.closest_hit(&ray, f32::INFINITY, &[]), None);
         assert!(!block.any_hit(&ray, f32::INFINITY));
     }
 

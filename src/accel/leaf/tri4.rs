@@ -6,7 +6,8 @@
 //! scalar [`Triangle::intersect`] arithmetic (the one generic function
 //! [`watertight`], same operations in the same order, no fused multiply-add), so
 //! hits, distances and barycentrics are bit-identical to the scalar test's, and ties
-//! go to the lowest lane as they go to the first primitive in the scalar loop.
+//! go to the lane whose primitive has the lowest rank, as they go to that primitive
+//! in the scalar loop (`traverse::nearest`).
 
 use std::ops::{Add, Mul, Sub};
 
@@ -84,15 +85,24 @@ pub(in crate::accel) fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T;
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Of the lanes in `mask` (not empty), the one with the least `t`, the lowest among
-/// equals (blocks keep their primitives in index order, and a pair of blocks the
-/// first one's before the second one's, so this is the lowest index).
+/// Of the lanes in `mask` (not empty), the one with the least `t`, of equals the one
+/// of the lowest `rank` (the rule of `traverse::nearest`; ranks are looked up only
+/// for an exact tie).
 #[inline(always)]
-pub(in crate::accel) fn nearest_lane(t: &[f32], mask: u32) -> usize {
+pub(in crate::accel) fn nearest_lane(t: &[f32], mask: u32, rank: impl Fn(usize) -> u64) -> usize {
     let mut lane = mask.trailing_zeros() as usize;
-    for k in lanes(mask & (mask - 1)) {
+    let others = mask & (mask - 1);
+    for k in lanes(others) {
         if t[k] < t[lane] {
             lane = k;
+        }
+    }
+    if others != 0 {
+        // Other lanes at exactly that distance (rare): the lowest rank of them all.
+        for k in lanes(mask) {
+            if t[k] == t[lane] && k != lane && rank(k) < rank(lane) {
+                lane = k;
+            }
         }
     }
     lane
@@ -176,16 +186,16 @@ pub(in crate::accel) trait Block {
     /// The primitive index of each lane (`u32::MAX` for an empty one).
     fn prims(&self) -> &[u32; LANES];
 
-    /// The nearest hit with `0 < t < t_max` (the lowest lane among equals), and its
-    /// primitive index.
+    /// The nearest hit with `0 < t < t_max` (of equals, the one whose primitive has
+    /// the lowest rank in `ranks`), and its primitive index.
     #[inline(always)]
-    fn closest_hit(&self, ray: &Ray4, t_max: f32) -> Option<(Hit, u32)> {
+    fn closest_hit(&self, ray: &Ray4, t_max: f32, ranks: &[u64]) -> Option<(Hit, u32)> {
         let (t, u, v, mask) = self.test(ray, t_max);
         if mask == 0 {
             return None;
         }
         let (t, u, v) = (t.to_array(), u.to_array(), v.to_array());
-        let lane = nearest_lane(&t, mask);
+        let lane = nearest_lane(&t, mask, |k| ranks[self.prims()[k] as usize]);
         let hit = Hit {
             t: t[lane],
             u: u[lane],
@@ -204,8 +214,8 @@ pub(in crate::accel) trait Block {
 /// Test helper for the blocks: for every run of up to [`LANES`] consecutive shapes of
 /// `shapes` packed by `make` (lane `k` with primitive index `10 + k`), and every ray
 /// and `t_max` of `rays`, the block's nearest hit is the scalar test's (`scalar`)
-/// nearest over those shapes, distance bit for bit and the lowest lane among equals,
-/// and its any-hit query answers exactly when there is one.
+/// nearest over those shapes, distance bit for bit and the lowest lane among equals
+/// (ranked in index order), and its any-hit query answers exactly when there is one.
 #[cfg(test)]
 pub(in crate::accel) fn assert_blocks_match_scalar<S: Copy, B: Block>(
     shapes: &[S],
@@ -230,7 +240,9 @@ pub(in crate::accel) fn assert_blocks_match_scalar<S: Copy, B: Block>(
                     _ => Some(h),
                 });
             let ray4 = Ray4::new(ray);
-            let got = block.closest_hit(&ray4, *t_max);
+            // Ranks in index order: of equals, the lowest lane.
+            let ranks: Vec<u64> = (0..10 + LANES as u64).collect();
+            let got = block.closest_hit(&ray4, *t_max, &ranks);
             assert_eq!(
                 got.map(|(h, p)| (h.t.to_bits(), p)),
                 expected.map(|(h, p)| (h.t.to_bits(), p)),
@@ -280,7 +292,11 @@ mod tests {
                     Some(b) if b.0.t <= h.0.t => Some(b),
                     _ => Some(h),
                 });
-            assert_eq!(block.closest_hit(&Ray4::new(&ray), 100.0), expected, "ray {i}");
+            assert_eq!(
+                block.closest_hit(&Ray4::new(&ray), 100.0, &[0, 1, 2, 3]),
+                expected,
+                "ray {i}"
+            );
             assert_eq!(block.any_hit(&Ray4::new(&ray), 100.0), expected.is_some());
         }
     }
@@ -289,12 +305,16 @@ mod tests {
     fn the_nearest_lane_wins_and_t_max_is_exclusive() {
         let block = Tri4::new(&[(tri(3.0, 1.0), 0), (tri(2.0, 1.0), 1), (tri(2.0, 1.0), 2)]);
         let ray = Ray4::new(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)));
-        // Lanes 1 and 2 tie at t = 2: the lower lane wins.
-        assert_eq!(
-            block.closest_hit(&ray, 10.0).map(|h| (h.0.t, h.1)),
-            Some((2.0, 1))
-        );
-        assert_eq!(block.closest_hit(&ray, 2.0), None);
+        // Lanes 1 and 2 tie at t = 2: the primitive of the lower rank wins, whichever
+        // lane it is in.
+        for (ranks, winner) in [([0, 1, 2], 1), ([0, 2, 1], 2), ([2, 1, 0], 2)] {
+            assert_eq!(
+                block.closest_hit(&ray, 10.0, &ranks).map(|h| (h.0.t, h.1)),
+                Some((2.0, winner)),
+                "ranks {ranks:?}"
+            );
+        }
+        assert_eq!(block.closest_hit(&ray, 2.0, &[0, 1, 2]), None);
         assert!(!block.any_hit(&ray, 2.0));
         assert!(block.any_hit(&ray, 2.5));
     }
@@ -310,7 +330,7 @@ mod tests {
         let (t, _, _, mask) = block.test(&ray4, f32::INFINITY);
         assert_eq!(mask, 0b0110);
         assert_eq!(
-            block.closest_hit(&ray4, f32::INFINITY),
+            block.closest_hit(&ray4, f32::INFINITY, &[0, 1, 2, 3]),
             Some((hit.intersect(&ray, f32::INFINITY).unwrap(), 2))
         );
         assert_eq!(t.to_array()[1], 3.0);
@@ -385,7 +405,7 @@ mod tests {
     fn empty_lanes_are_never_hit() {
         let block = Tri4::new(&[]);
         let ray = Ray4::new(&Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)));
-        assert_eq!(block.closest_hit(&ray, f32::INFINITY), None);
+        assert_eq!(block.closest_hit(&ray, f32::INFINITY, &[]), None);
         assert!(!block.any_hit(&ray, f32::INFINITY));
     }
 }

@@ -339,7 +339,7 @@ fn assert_agrees_with_brute_force(bvh: &Bvh, point: &mut impl FnMut(f32) -> Vec3
         let r = Ray::new(origin, (point(15.0) - origin).normalize());
         let fast = bvh.closest_hit(&r, f32::INFINITY);
         let slow = bvh.closest_hit_linear(&r, f32::INFINITY);
-        // The same hit and primitive: ties go to the lowest index, as in the scan.
+        // The same hit and primitive: ties go to the lowest rank, as in the scan.
         assert_eq!(fast, slow);
         hits += usize::from(fast.is_some());
         let occluded: Vec<bool> = [2.0, 10.0, f32::INFINITY]

@@ -6,6 +6,7 @@
 
 use super::*;
 use crate::accel::{Aggregate, QueryCounts, Ray8};
+use crate::geometry::SourceKind;
 use crate::scene::{Accel, Plane};
 
 /// The three structures over `scene`.
@@ -111,6 +112,78 @@ fn assert_packets_answer_each_ray(structures: &[Aggregate; 3], rays: &[Ray]) {
                 );
             }
         }
+    }
+}
+
+/// Coincident copies of a sphere and of a quad's two triangles, each copy from its
+/// own line of the scene file: every hit is a tie among six. Every structure, alone
+/// and in packets, reports the copy from the earliest line, whether the copies are
+/// listed in the order of their lines or against it (the place in the scene's lists
+/// does not decide, nor does the leaf order the builder chose).
+#[test]
+fn ties_go_to_the_primitive_first_in_the_file() {
+    const COPIES: usize = 6;
+    let quad = [
+        [
+            Vec3::new(-1.0, -1.0, -0.5),
+            Vec3::new(1.0, -1.0, -0.5),
+            Vec3::new(1.0, 1.0, -0.5),
+        ],
+        [
+            Vec3::new(-1.0, -1.0, -0.5),
+            Vec3::new(1.0, 1.0, -0.5),
+            Vec3::new(-1.0, 1.0, -0.5),
+        ],
+    ];
+    let tris: Vec<[Vec3; 3]> = (0..COPIES).flat_map(|_| quad).collect();
+    let spheres = [(Vec3::new(0.0, 0.0, 2.0), 0.75); COPIES];
+    for against in [false, true] {
+        // Copy k of every shape on line 10 + k, or on line 10 + COPIES - k.
+        let line = |k: usize| 10 + if against { COPIES - k } else { k } as u32;
+        let first = line(if against { COPIES - 1 } else { 0 });
+        let mut scene = scene_with(&spheres, &tris);
+        for (k, s) in scene.spheres.iter_mut().enumerate() {
+            s.line = line(k);
+        }
+        for (k, p) in scene.polygons.iter_mut().enumerate() {
+            p.line = line(k / 2);
+        }
+        let structures = all_three(&scene);
+        let mut next = uniform(11);
+        let rays: Vec<Ray> = (0..64)
+            .map(|_| {
+                let o = Vec3::new(next() * 1.6 - 0.8, next() * 1.6 - 0.8, 6.0);
+                Ray::new(o, Vec3::new(0.0, 0.0, -1.0))
+            })
+            .collect();
+        let (mut spheres_hit, mut quads_hit) = (0, 0);
+        for s in &structures {
+            for packet in rays.chunks(8) {
+                let mut out = [None; 8];
+                s.closest_hits8(&crate::accel::Ray8::new(packet), f32::INFINITY, 0xFF, &mut out);
+                for (ray, got) in packet.iter().zip(out) {
+                    let (_, prim) = s
+                        .closest_hit(ray, f32::INFINITY)
+                        .expect("every ray hits the quad");
+                    assert_eq!(
+                        got.map(|h| h.1),
+                        Some(prim),
+                        "{:?}: packet and single ray",
+                        s.kind()
+                    );
+                    let p = s.primitive(prim);
+                    assert_eq!(p.line, first, "{:?}: {:?} at {:?}", s.kind(), p.kind, ray.origin);
+                    match p.kind {
+                        SourceKind::Sphere => spheres_hit += 1,
+                        _ => quads_hit += 1,
+                    }
+                }
+            }
+        }
+        assert!(
+            spheres_hit > 0 && quads_hit > 0,
+            "{spheres_hit} sphere and {quads_hit} quad hits"
+        );
     }
 }
 

@@ -11,11 +11,13 @@ use crate::geometry::Hit;
 /// primitives of a tie. 2^-20 is 16 units in the last place.
 const TIE_SLACK: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
 
-/// The nearest hit found so far. Ties in distance go to the lowest primitive index,
-/// as in a scan of the primitives in order, so the answer does not depend on the
-/// order leaves are met in (single rays, packets and image regions all agree).
+/// The nearest hit found so far. Ties in distance go to the primitive that comes first
+/// in the scene (the lowest rank, `Bvh::ranks`), so the answer
+/// depends neither on the order leaves are met in (single rays, packets, image regions
+/// and the acceleration structures all agree) nor on the order the builder put the
+/// leaves in: of coincident surfaces, the one listed first is seen.
 #[derive(Clone, Copy, Debug)]
-pub struct Nearest {
+pub struct Nearest<'a> {
     /// The hit and its primitive index.
     pub best: Option<(Hit, u32)>,
     /// The bound to pass to an exclusive test (`t < limit`): the query's `t_max` at
@@ -23,24 +25,39 @@ pub struct Nearest {
     /// float above it, never above the previous limit), so that an equally near hit
     /// still comes to [`Nearest::offer`], which turns away the farther ones.
     pub limit: f32,
+    /// Each primitive's rank (by the index the queries report), `Bvh::ranks`.
+    ranks: &'a [u64],
 }
 
-impl Nearest {
-    /// Nothing found yet, below `t_max`.
+impl<'a> Nearest<'a> {
+    /// Nothing found yet, below `t_max`, among primitives ranked by `ranks`.
     #[inline(always)]
-    pub fn new(t_max: f32) -> Nearest {
+    pub fn new(t_max: f32, ranks: &'a [u64]) -> Nearest<'a> {
         Nearest {
             best: None,
             limit: t_max,
+            ranks,
         }
     }
 
+    /// The ranks, by primitive index.
+    #[inline(always)]
+    pub fn ranks(&self) -> &'a [u64] {
+        self.ranks
+    }
+
+    /// Primitive `prim`'s rank.
+    #[inline(always)]
+    pub fn rank(&self, prim: u32) -> u64 {
+        self.ranks[prim as usize]
+    }
+
     /// Keeps `hit` of primitive `prim` (found below [`Nearest::limit`]) if it is
-    /// nearer, or as near with a lower index.
+    /// nearer, or as near with a lower rank.
     #[inline(always)]
     pub fn offer(&mut self, hit: Hit, prim: u32) {
         if let Some((best, p)) = self.best {
-            if hit.t > best.t || (hit.t == best.t && prim >= p) {
+            if hit.t > best.t || (hit.t == best.t && self.rank(prim) >= self.rank(p)) {
                 return;
             }
         }

@@ -127,7 +127,7 @@ pub(super) trait PacketQuery {
 /// A closest-hit packet query under way.
 struct Closest<'a> {
     rays: &'a Ray8,
-    nearest: [Nearest; PACKET],
+    nearest: [Nearest<'a>; PACKET],
     /// Each ray's `nearest[k].limit`, side by side for the vector tests.
     limits: [f32; PACKET],
 }
@@ -257,7 +257,7 @@ impl Bvh {
         }
         let mut q = Closest {
             rays,
-            nearest: [Nearest::new(t_max); PACKET],
+            nearest: [Nearest::new(t_max, &self.ranks); PACKET],
             limits: [t_max; PACKET],
         };
         self.unbounded_closest8(&mut q, active);

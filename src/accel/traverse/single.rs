@@ -35,7 +35,7 @@ pub(in crate::accel) fn sort_descending(v: &mut [(u32, f32)]) {
 #[inline(always)]
 pub(in crate::accel) fn blocks_closest<B: Block>(blocks: &[B], ray4: &Ray4, nearest: &mut Nearest) {
     for block in blocks {
-        if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit) {
+        if let Some((h, prim)) = block.closest_hit(ray4, nearest.limit, nearest.ranks()) {
             nearest.offer(h, prim);
         }
     }
@@ -69,7 +69,7 @@ impl Bvh {
         t_max: f32,
         tally: &mut T,
     ) -> Option<(Hit, u32)> {
-        let mut nearest = Nearest::new(t_max);
+        let mut nearest = Nearest::new(t_max, &self.ranks);
         self.unbounded_closest(ray, &mut nearest, tally);
         if self.wide.is_empty() {
             return nearest.best;
@@ -250,7 +250,7 @@ impl Bvh {
         for pair in &mut pairs {
             let (t, u, v, mask) = kernels.pair(&pair[0], &pair[1], ray4, nearest.limit);
             if mask != 0 {
-                let lane = nearest_lane(&t, mask);
+                let lane = nearest_lane(&t, mask, |k| nearest.rank(pair[k / LANES].prim[k % LANES]));
                 let hit = Hit {
                     t: t[lane],
                     u: u[lane],
