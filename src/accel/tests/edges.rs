@@ -75,9 +75,10 @@ fn packets_give_each_ray_its_single_ray_answer() {
 
 /// Rays straight down onto the shared edges and corners of a flat grid of triangles:
 /// several triangles are hit at exactly the same distance, in different leaves. The
-/// lowest primitive index must win, whatever order the traversal meets them in.
+/// lowest rank (here, the scene's order) must win, as in the reference scan, whatever
+/// order the traversal meets them in.
 #[test]
-fn ties_go_to_the_lowest_primitive_index() {
+fn ties_go_to_the_lowest_rank_whatever_the_traversal_order() {
     let mut tris = Vec::new();
     for i in 0..24 {
         for j in 0..24 {
