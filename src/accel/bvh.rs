@@ -64,25 +64,26 @@ impl Bvh {
             primitives: mut bounded,
             data,
         } = geometry;
-        // Unbounded primitives (planes) set aside in place: with none, as in most
-        // scenes, nothing moves. The big arrays below are filled in parallel (their
-        // first-touch page faults were a third of building 600 000 spheres).
-        let is_unbounded = |p: &Primitive| p.bounds(&data).is_none();
+        // Each primitive's rank (`Bvh::ranks`), taken before anything moves.
         let mut ranks: Vec<u64> = bounded
             .par_iter()
             .enumerate()
             .map(|(i, p)| u64::from(p.line) << 32 | i as u64)
             .collect();
+        // Unbounded primitives (planes) set aside in place, with their ranks: with none,
+        // as in most scenes, nothing moves. The big arrays below are filled in parallel
+        // (their first-touch page faults were a third of building 600 000 spheres).
+        let is_unbounded = |p: &Primitive| p.bounds(&data).is_none();
         let mut unbounded = Vec::new();
         let mut unbounded_ranks = Vec::new();
         if bounded.par_iter().any(is_unbounded) {
-            let (aside, kept): (Vec<_>, Vec<_>) = bounded
-                .iter()
-                .copied()
-                .zip(ranks)
-                .partition(|(p, _)| is_unbounded(p));
-            (unbounded, unbounded_ranks) = aside.into_iter().unzip();
-            (bounded, ranks) = kept.into_iter().unzip();
+            for (p, &rank) in bounded.iter().zip(&ranks).filter(|(p, _)| is_unbounded(p)) {
+                unbounded.push(*p);
+                unbounded_ranks.push(rank);
+            }
+            let mut kept = bounded.iter().map(|p| !is_unbounded(p));
+            ranks.retain(|_| kept.next() == Some(true));
+            bounded.retain(|p| !is_unbounded(p));
         }
         let bounds = |i: usize| bounded[i].bounds(&data).expect("unbounded primitives set aside");
         // Triangles and spheres are intersected several at a time (in blocks), which

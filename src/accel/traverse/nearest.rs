@@ -12,10 +12,11 @@ use crate::geometry::Hit;
 const TIE_SLACK: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
 
 /// The nearest hit found so far. Ties in distance go to the primitive that comes first
-/// in the scene (the lowest rank, `Bvh::ranks`), so the answer
-/// depends neither on the order leaves are met in (single rays, packets, image regions
-/// and the acceleration structures all agree) nor on the order the builder put the
-/// leaves in: of coincident surfaces, the one listed first is seen.
+/// in the scene (the lowest rank, `Bvh::ranks`: its line, then its place in the
+/// scene's lists), so the answer depends neither on the order leaves are met in
+/// (single rays, packets, image regions and the acceleration structures all agree)
+/// nor on the order the builder put the leaves in: of coincident surfaces, the one
+/// listed first is seen.
 #[derive(Clone, Copy, Debug)]
 pub struct Nearest<'a> {
     /// The hit and its primitive index.
