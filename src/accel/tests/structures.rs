@@ -160,7 +160,7 @@ fn ties_go_to_the_primitive_first_in_the_file() {
         for s in &structures {
             for packet in rays.chunks(8) {
                 let mut out = [None; 8];
-                s.closest_hits8(&crate::accel::Ray8::new(packet), f32::INFINITY, 0xFF, &mut out);
+                s.closest_hits8(&Ray8::new(packet), f32::INFINITY, 0xFF, &mut out);
                 for (ray, got) in packet.iter().zip(out) {
                     let (_, prim) = s
                         .closest_hit(ray, f32::INFINITY)
