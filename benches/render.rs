@@ -8,8 +8,9 @@ mod common;
 use criterion::{criterion_group, criterion_main, Criterion};
 use nffrt::gen::SpdScene;
 use nffrt::load::Assets;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare;
-use nffrt::render::{render, Accumulator, RenderOptions, Sampling, Silent};
+use nffrt::render::{render, Accumulator, Silent};
 use std::hint::black_box;
 
 fn render_small(c: &mut Criterion) {

@@ -6,7 +6,7 @@
 //! input has the same fingerprint on every platform, Rust version and nffrt build
 //! (`std`'s `DefaultHasher` promises none of that).
 
-use crate::render::RenderOptions;
+use crate::options::RenderOptions;
 
 /// 64-bit FNV-1a, fed in pieces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,7 +86,7 @@ pub fn options_fingerprint(opts: &RenderOptions) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::Sampling;
+    use crate::options::Sampling;
 
     /// Published FNV-1a test vectors (Fowler, Noll and Vo's reference code).
     #[test]

@@ -13,7 +13,7 @@
 //! the SPD's classic scenes, at sizes up to 10 million primitives.
 //!
 //! ```
-//! use nffrt::{load::Assets, prepare, render::{render, RenderOptions}};
+//! use nffrt::{load::Assets, options::RenderOptions, prepare, render::render};
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
 //!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
 //! let scene = prepare(scene, &Assets::default());
@@ -38,6 +38,7 @@ pub mod limits;
 pub mod load;
 pub mod math;
 pub mod nff;
+pub mod options;
 pub mod output;
 mod pages;
 pub mod prepare;

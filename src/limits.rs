@@ -3,8 +3,6 @@
 //! file nor the caller says. The parser, the renderer, the command line, the viewer
 //! and the Python bindings all read them from here, so each is written once.
 
-use crate::render::Sampling;
-
 // What a scene file may make the parser allocate (`nff::Limits`; raised on the
 // command line by `--max-primitives`, `--max-vertices`, `--max-lights`).
 
@@ -32,10 +30,11 @@ pub const MAX_SPP: u32 = 4096;
 pub const MAX_DEPTH: u32 = 64;
 /// The largest area-light grid side (`--light-samples`).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
-/// Default of `--max-pixels`, and the most eye-ray grid points any render may have
-/// (see [`eye_grid_points`]): 64 Mi (8192 x 8192), about 1.6 GB of float image while
+/// The most eye-ray grid points (`options::eye_grid_points`) a render may have
+/// unless its caller raises the limit (`options::RenderLimits`: `--max-pixels`,
+/// Python's `max_pixels=`): 64 Mi (8192 x 8192), about 1.6 GB of float image while
 /// rendering.
-pub const MAX_PIXELS: u64 = 1 << 26;
+pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
 /// The most worker threads a caller may ask for.
 pub const MAX_THREADS: u32 = 1024;
 
@@ -53,14 +52,3 @@ pub const DEFAULT_SHUTTER: [f32; 2] = [0.0, 1.0];
 /// Grid side of a P3F 2019 `al` area light, whose file gives none: 16 points with
 /// one eye sample per pixel.
 pub const AREA_LIGHT_GRID: u32 = 4;
-
-/// The eye-ray grid points of a `width` x `height` render (or region) under
-/// `sampling`: one per pixel, or the `(w + 1) x (h + 1)` pixel corners of the SPD
-/// protocol. The one rule every pixel limit is checked by.
-pub fn eye_grid_points(width: u32, height: u32, sampling: Sampling) -> u64 {
-    let (w, h) = (width as u64, height as u64);
-    match sampling {
-        Sampling::SpdCorners => (w + 1) * (h + 1),
-        _ => w * h,
-    }
-}

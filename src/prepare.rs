@@ -10,7 +10,7 @@
 //! materials as parsed, and a summary of its primitives, stay as [`SceneInfo`].
 //!
 //! ```
-//! use nffrt::{load::Assets, prepare::prepare, render::RenderOptions};
+//! use nffrt::{load::Assets, options::RenderOptions, prepare::prepare};
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
 //!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
 //! let prepared = prepare(scene, &Assets::default());
@@ -26,18 +26,17 @@ use crate::geometry::{build_geometry_for_shutter, Primitive};
 use crate::image::skybox::FaceError;
 use crate::image::{Image, Region};
 use crate::load::Assets;
+use crate::options::{check_render, Refused, RenderLimits, RenderOptions};
 use crate::render::emitters::Emitters;
-use crate::render::{
-    check_options, render_region, Background, Lighting, Observer, RenderOptions, Silent, Stats,
-};
+use crate::render::{render_region, Background, Lighting, Observer, Silent, Stats};
 use crate::scene::{Accel, Material, Scene, SceneInfo, View};
 
 /// Why a render did not run to the end.
 #[derive(Debug, Error, PartialEq, Eq)]
 pub enum RenderError {
-    /// An option is out of range; the message names it and the range.
-    #[error("{0}")]
-    Options(String),
+    /// The options or the region were refused before the render started.
+    #[error(transparent)]
+    Refused(#[from] Refused),
     /// The observer cancelled the render.
     #[error("the render was cancelled")]
     Cancelled,
@@ -166,7 +165,7 @@ impl RenderScene {
         self.render_region(view, opts, &full, &Silent)
     }
 
-    /// Checks `opts` and `region` ([`check_options`]), then renders the region of the
+    /// Checks `opts` and `region` ([`check_render`]), then renders the region of the
     /// full image seen by `view`, reporting rows to `observer`: the same pixels as
     /// the full render has there, bit for bit.
     pub fn render_region(
@@ -176,7 +175,7 @@ impl RenderScene {
         region: &Region,
         observer: &dyn Observer,
     ) -> Result<(Image, Stats), RenderError> {
-        check_options(opts, region).map_err(RenderError::Options)?;
+        check_render(opts, region, &RenderLimits::default())?;
         let rendered = render_region(self, view, opts, region, observer).ok_or(RenderError::Cancelled)?;
         self.decode_assets().map_err(RenderError::Asset)?;
         Ok(rendered)
@@ -196,7 +195,7 @@ mod tests {
     use std::sync::atomic::{AtomicU32, Ordering};
 
     use super::*;
-    use crate::render::Sampling;
+    use crate::options::Sampling;
 
     /// A red sphere in front of a grey mirror plane, lit from the camera's side.
     const SCENE: &str = "v from 0 0 6 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 23 17\n\
@@ -310,7 +309,7 @@ mod tests {
         ];
         for (opts, region, want) in cases {
             match p.render_region(p.view(), &opts, &region, &Silent) {
-                Err(RenderError::Options(m)) => assert!(m.contains(want), "{m:?} lacks {want:?}"),
+                Err(RenderError::Refused(m)) => assert!(m.to_string().contains(want), "{m:?} lacks {want:?}"),
                 other => panic!("{want}: {:?}", other.map(|(_, s)| s)),
             }
         }

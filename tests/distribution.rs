@@ -5,10 +5,9 @@
 use nffrt::load::Assets;
 use nffrt::math::{Ray, Vec3};
 use nffrt::nff::{parse_format, Format};
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare;
-use nffrt::render::{
-    render, Camera, CameraSample, Frame, NoRecord, RenderOptions, SampleId, Sampling, TraceContext,
-};
+use nffrt::render::{render, Camera, CameraSample, Frame, NoRecord, SampleId, TraceContext};
 use nffrt::Scene;
 
 fn p3f(src: &str) -> Scene {

@@ -112,8 +112,9 @@ fn the_course_dof_scene_without_spp_renders_its_blur() {
 
 use nffrt::load::Assets;
 use nffrt::nff::{parse_format, Format};
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
-use nffrt::render::{render, RenderOptions, Sampling};
+use nffrt::render::render;
 use nffrt::scene::Integrator as Method;
 
 /// A P3F scene from text, prepared.

@@ -10,8 +10,9 @@ use std::path::PathBuf;
 use nffrt::image::Image;
 use nffrt::load::Assets;
 use nffrt::nff::{parse_format, Format};
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
-use nffrt::render::{render, RenderOptions, Sampling};
+use nffrt::render::render;
 use nffrt::scene::Integrator;
 
 fn examples_dir() -> PathBuf {

@@ -11,8 +11,9 @@
 use nffrt::image::Image;
 use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare;
-use nffrt::render::{render, RenderOptions, Sampling, Stats};
+use nffrt::render::{render, Stats};
 use proptest::prelude::*;
 
 fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Image, Stats) {

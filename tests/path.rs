@@ -8,8 +8,9 @@
 use nffrt::image::{Image, Region};
 use nffrt::load::Assets;
 use nffrt::nff::{parse_format, Format};
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
-use nffrt::render::{render, render_region, RenderOptions, Sampling, Silent};
+use nffrt::render::{render, render_region, Silent};
 use nffrt::scene::Integrator;
 
 fn p3f(text: &str) -> RenderScene {

@@ -4,8 +4,9 @@
 use nffrt::image::Image;
 use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare;
-use nffrt::render::{render, RenderOptions, Sampling, Stats};
+use nffrt::render::{render, Stats};
 
 fn render_with_threads(src: &str, threads: usize, sampling: Sampling) -> (Image, Stats) {
     let scene = parse(src).unwrap();

@@ -5,9 +5,10 @@
 use nffrt::image::{Image, Region};
 use nffrt::load::Assets;
 use nffrt::nff::parse;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare;
 use nffrt::render::debug::trace_pixel;
-use nffrt::render::{render, render_region, RenderOptions, Sampling, Silent};
+use nffrt::render::{render, render_region, Silent};
 use nffrt::{RenderScene, Scene};
 
 fn showcase() -> RenderScene {

@@ -22,7 +22,7 @@ mod skip;
 /// Packets and single rays agree on every corner ray of `scene` at 512 x 512.
 fn packets_agree_with_single_rays(name: &str, scene: &Scene) {
     let bvh = Bvh::new(build_geometry(scene));
-    let opts = nffrt::render::RenderOptions {
+    let opts = nffrt::options::RenderOptions {
         width: 512,
         height: 512,
         ..Default::default()

@@ -21,7 +21,7 @@ pub fn nff_text(scene: &Scene) -> String {
 
 /// One primary ray through each pixel centre at `w` x `h`.
 pub fn primary_rays(scene: &Scene, w: u32, h: u32) -> Vec<Ray> {
-    let opts = nffrt::render::RenderOptions {
+    let opts = nffrt::options::RenderOptions {
         width: w,
         height: h,
         ..Default::default()

@@ -10,7 +10,8 @@ use libfuzzer_sys::fuzz_target;
 use nffrt::load::Assets;
 use nffrt::prepare;
 use nffrt::nff::parse_bytes;
-use nffrt::render::{render, RenderOptions, Sampling};
+use nffrt::render::render;
+use nffrt::options::{RenderOptions, Sampling};
 
 /// Longer inputs only make slower renders, not new paths.
 const MAX_INPUT: usize = 8192;
@@ -23,7 +24,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let scene = prepare(scene, &Assets::default());
-    if let Err(e) = scene.accel().validate() {
+    if let Err(e) = scene.accel().bvh().validate() {
         panic!("invalid BVH: {e}");
     }
     // One thread: fuzzing runs one job beside other work, and rayon's pool would

@@ -82,7 +82,7 @@ pub fn io_error(path: &Path, e: &std::io::Error) -> PyErr {
 /// raised one.
 pub fn render_error(e: RenderError) -> PyErr {
     match e {
-        RenderError::Options(m) => PyValueError::new_err(m),
+        RenderError::Refused(m) => PyValueError::new_err(m.to_string()),
         RenderError::Cancelled => PyKeyboardInterrupt::new_err("the render was cancelled"),
         RenderError::Asset(e) => PyOSError::new_err(e.to_string()),
     }

@@ -20,9 +20,10 @@ use nffrt::geometry::build_geometry;
 use nffrt::limits::MAX_THREADS;
 use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
+use nffrt::options::RenderRequest;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare_with, PrepareOptions, RenderError};
-use nffrt::render::RenderRequest;
-use nffrt::render::{Camera, RenderOptions, Sampling};
+use nffrt::render::Camera;
 use nffrt::scene::{Accel, Integrator};
 use nffrt::words::count;
 

@@ -8,11 +8,11 @@ use clap::Args;
 use super::values::whole_number;
 use super::CliError;
 use nffrt::limits::{
-    eye_grid_points, DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_SCENE_BYTES,
-    DEFAULT_MAX_VERTICES, MAX_PIXELS,
+    DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PIXELS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_SCENE_BYTES,
+    DEFAULT_MAX_VERTICES,
 };
 use nffrt::nff::{Format, Limits};
-use nffrt::render::Sampling;
+use nffrt::options::{eye_grid_points, Sampling};
 use nffrt::words::count;
 
 /// How a scene file is read, and the limits on what it may make nffrt read and build.
@@ -88,7 +88,7 @@ pub struct RenderLimitArgs {
     #[command(flatten)]
     pub scene: SceneLimitArgs,
     /// Refuse to render more than N pixels (counting the (w+1) x (h+1) corners with --spd).
-    #[arg(long, value_name = "N", default_value_t = MAX_PIXELS,
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_PIXELS,
           allow_negative_numbers = true, value_parser = whole_number::<u64>(0, u64::MAX))]
     pub max_pixels: u64,
 }

@@ -19,8 +19,9 @@ use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
+use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
-use nffrt::render::{region_eye_rows, render_region, RenderOptions, RenderRequest, Resolved};
+use nffrt::render::{region_eye_rows, render_region};
 use nffrt::scene::{Accel, Integrator, SceneInfo};
 use nffrt::words::count;
 

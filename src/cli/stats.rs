@@ -10,8 +10,9 @@ use serde_json::{json, Value};
 
 use nffrt::accel::QueryCounts;
 use nffrt::image::Region;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::RenderScene;
-use nffrt::render::{Camera, RenderOptions, Sampling, Stats};
+use nffrt::render::{Camera, Stats};
 use nffrt::scene::{Accel, SceneInfo};
 use nffrt::words::shortest_f64;
 

@@ -22,9 +22,8 @@
 use crate::accel::{Ray8, RayLanes, PACKET};
 use crate::limits::DEFAULT_SHUTTER;
 use crate::math::{Ray, Vec3};
+use crate::options::RenderOptions;
 use crate::scene::{AngleSpan, View};
-
-use super::RenderOptions;
 
 /// Where and when an eye ray goes: a raster position, a position on the lens and a
 /// moment of the shutter.

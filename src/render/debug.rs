@@ -11,11 +11,12 @@ use std::fmt;
 
 use super::integrator::{AreaOutcome, HitRecord, LightOutcome, PathEvent, Recorder, TraceContext};
 use super::path_log::{write_path, PathStep};
-use super::{spd_mean, Branch, CameraSample, Frame, RenderOptions, SampleId, Sampling, Stats};
+use super::{spd_mean, Branch, CameraSample, Frame, SampleId, Stats};
 use crate::geometry::SourceKind;
 use crate::image::quantize;
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
+use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::{Dialect, Material, View};
 

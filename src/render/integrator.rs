@@ -22,11 +22,11 @@ use super::path::PathTracer;
 use super::shade::{Branch, Model, P3fRules, SpdRules};
 use super::stats::Stats;
 use super::whitted::Whitted;
-use super::RenderOptions;
 use crate::accel::NO_HINT;
 use crate::geometry::{Hit, Primitive};
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
+use crate::options::RenderOptions;
 use crate::prepare::RenderScene;
 use crate::scene::Integrator as Method;
 

@@ -25,7 +25,6 @@ pub mod optics;
 pub mod path;
 pub mod path_log;
 mod progressive;
-pub mod request;
 mod rows;
 mod sampling;
 mod shade;
@@ -40,84 +39,19 @@ pub use integrator::{
 pub use light::{LightQuad, LightSampling, LightSource};
 pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
-pub use request::{image_size, RenderRequest, Resolved};
 pub use rows::Frame;
-pub use sampling::{
-    permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Sampling, Strata,
-};
+pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
 pub use shade::{Branch, Facets, Lighting, Model, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 
 use rayon::prelude::*;
 
 use crate::image::{Image, Region};
-use crate::limits::{
-    eye_grid_points, DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP,
-};
 use crate::math::Vec3;
+use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
-use crate::scene::{Integrator as Method, View};
+use crate::scene::View;
 use rows::each_row;
-
-/// How to render. Every field changes the picture.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct RenderOptions {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Maximum ray-tree depth; the eye ray has depth 1.
-    pub max_depth: u32,
-    /// Eye-ray placement.
-    pub sampling: Sampling,
-    /// Lens diameter in pixels of the view plane, replacing the scene's (0: pinhole).
-    pub aperture: Option<f32>,
-    /// Focal distance as a multiple of `|from - at|`, replacing the scene's.
-    pub focal: Option<f32>,
-    /// Points per side of the grid every hit samples on each area light, replacing
-    /// the default sampling (see `light.rs`).
-    pub light_samples: Option<u32>,
-    /// False: each area light shines from its centre alone (hard shadows).
-    pub soft_shadows: bool,
-    /// The sample pattern: 0 is nffrt's first, any other an unrelated one, as
-    /// deterministic (independent renders to average, or to compare noise with).
-    pub seed: u32,
-    /// The light transport: Whitted's rules or path tracing.
-    pub integrator: Method,
-    /// False: every surface smooth, whatever its material's roughness (the viewer's
-    /// toggle).
-    pub roughness: bool,
-}
-
-impl Default for RenderOptions {
-    /// 512x512, depth 5, pixel centres, the scene's lens.
-    fn default() -> Self {
-        RenderOptions {
-            width: 512,
-            height: 512,
-            max_depth: DEFAULT_MAX_DEPTH,
-            sampling: Sampling::PixelCenters,
-            aperture: None,
-            focal: None,
-            light_samples: None,
-            soft_shadows: true,
-            seed: 0,
-            integrator: Method::Whitted,
-            roughness: true,
-        }
-    }
-}
-
-impl RenderOptions {
-    /// The view's resolution, depth 5, pixel-centre sampling, the view's lens.
-    pub fn from_view(view: &View) -> Self {
-        RenderOptions {
-            width: view.width,
-            height: view.height,
-            ..RenderOptions::default()
-        }
-    }
-}
 
 /// Watches a render as it runs: progress reports, the finished pixels, cancellation.
 /// Rows finish in any order and on any of the render's threads.
@@ -157,66 +91,6 @@ pub fn region_eye_rows(opts: &RenderOptions, region: &Region) -> u64 {
         Sampling::SpdCorners => region.height() as u64 + 1,
         _ => region.height() as u64,
     }
-}
-
-/// Checks that `opts` can be rendered within [`crate::limits`]: a size of 1 to
-/// [`MAX_RESOLUTION`] per side, a depth of 1 to [`MAX_DEPTH`], 1 to [`MAX_SPP`]
-/// samples, a finite lens (aperture at least 0, focal distance above 0), 1 to
-/// [`MAX_LIGHT_SAMPLES`] light samples.
-pub fn check_settings(opts: &RenderOptions) -> Result<(), String> {
-    let (w, h) = (opts.width, opts.height);
-    if !(1..=MAX_RESOLUTION).contains(&w) || !(1..=MAX_RESOLUTION).contains(&h) {
-        return Err(format!(
-            "a {w}x{h} image: width and height go from 1 to {MAX_RESOLUTION}"
-        ));
-    }
-    if !(1..=MAX_DEPTH).contains(&opts.max_depth) {
-        return Err(format!(
-            "max depth {} is not between 1 and {MAX_DEPTH}",
-            opts.max_depth
-        ));
-    }
-    if let Sampling::Stratified { spp } | Sampling::Independent { spp } = opts.sampling {
-        if !(1..=MAX_SPP).contains(&spp) {
-            return Err(format!("{spp} samples per pixel is not between 1 and {MAX_SPP}"));
-        }
-    }
-    if let Some(a) = opts.aperture.filter(|a| !(a.is_finite() && *a >= 0.0)) {
-        return Err(format!("aperture {a} is not a finite number of at least 0"));
-    }
-    if let Some(f) = opts.focal.filter(|f| !(f.is_finite() && *f > 0.0)) {
-        return Err(format!("focal distance {f} is not a finite number above 0"));
-    }
-    if let Some(n) = opts
-        .light_samples
-        .filter(|n| !(1..=MAX_LIGHT_SAMPLES).contains(n))
-    {
-        return Err(format!(
-            "{n} light samples is not between 1 and {MAX_LIGHT_SAMPLES}"
-        ));
-    }
-    Ok(())
-}
-
-/// Checks that `opts` can be rendered over `region` ([`check_settings`]), the region
-/// non-empty and inside the image, with at most [`MAX_PIXELS`] eye-ray grid points.
-pub fn check_options(opts: &RenderOptions, region: &Region) -> Result<(), String> {
-    check_settings(opts)?;
-    let (w, h) = (opts.width, opts.height);
-    let r = region;
-    if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > w || r.y1 > h {
-        return Err(format!(
-            "region {r} is empty or does not fit in the {w}x{h} image (X1 and Y1 are exclusive)"
-        ));
-    }
-    let grid = eye_grid_points(r.width(), r.height(), opts.sampling);
-    if grid > MAX_PIXELS {
-        let (rw, rh) = (r.width(), r.height());
-        return Err(format!(
-            "{rw}x{rh} is {grid} eye-ray grid points, more than the limit of {MAX_PIXELS} (render it in tiles)"
-        ));
-    }
-    Ok(())
 }
 
 /// Renders only `region` of the `opts.width` x `opts.height` image of `scene` seen by

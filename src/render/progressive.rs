@@ -16,9 +16,10 @@
 
 use super::rows::{each_row, Frame};
 use super::Observer;
-use super::{RenderOptions, Sampling, Stats};
+use super::Stats;
 use crate::image::Image;
 use crate::math::Vec3;
+use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::View;
 

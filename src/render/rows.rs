@@ -17,9 +17,10 @@ use rayon::prelude::*;
 use super::camera::{Camera, CameraSample};
 use super::integrator::{ChosenIntegrator, Integrator, Recorder, TraceContext};
 use super::sampling::{PixelSampler, SampleId};
-use super::{Observer, RenderOptions, Stats};
+use super::{Observer, Stats};
 use crate::accel::{Ray8, PACKET};
 use crate::math::{Ray, Vec3};
+use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::View;
 
@@ -49,7 +50,7 @@ impl<'a> Frame<'a> {
     /// The same frame with the centre sample of each pixel through the centre of the
     /// lens (a preview).
     pub fn centres(mut self) -> Self {
-        self.sampler = super::Sampling::PixelCenters.pixel_sampler(false, false, 0);
+        self.sampler = Sampling::PixelCenters.pixel_sampler(false, false, 0);
         self
     }
 

@@ -21,33 +21,8 @@
 //! order unrelated to the others', so 16 samples cover the lens and each area light
 //! with a 4x4 grid of jittered points.
 
-use std::fmt;
-
 use super::camera::CameraSample;
-
-/// Where eye rays go through each pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub enum Sampling {
-    /// One ray through each pixel centre.
-    PixelCenters,
-    /// The SPD benchmark protocol: one ray through each pixel corner
-    /// ((w+1) x (h+1) rays), the four corner values averaged into each pixel.
-    SpdCorners,
-    /// Stratified jittered supersampling with `spp` samples per pixel, box-filtered
-    /// (see the module docs). `spp = 1` is one sample at the pixel centre whose
-    /// other dimensions (lens, time, rough directions) are jittered: what an explicit
-    /// single sample of a scene with such effects takes.
-    Stratified {
-        /// Samples per pixel, at least 1.
-        spp: u32,
-    },
-    /// `spp` independent uniform samples per pixel in every dimension, without
-    /// strata: the baseline that stratification is measured against (tests).
-    Independent {
-        /// Samples per pixel, at least 1.
-        spp: u32,
-    },
-}
+use crate::options::Sampling;
 
 impl Sampling {
     /// The sampler of one pixel's samples in a render (not for
@@ -64,26 +39,6 @@ impl Sampling {
             lens,
             motion,
             seed: seed_offset(seed),
-        }
-    }
-
-    /// Eye samples per pixel (4 corner rays shared with the neighbours for the SPD
-    /// protocol count as 1).
-    pub fn samples_per_pixel(&self) -> u32 {
-        match *self {
-            Sampling::PixelCenters | Sampling::SpdCorners => 1,
-            Sampling::Stratified { spp } | Sampling::Independent { spp } => spp.max(1),
-        }
-    }
-}
-
-impl fmt::Display for Sampling {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Sampling::PixelCenters => write!(f, "centres"),
-            Sampling::SpdCorners => write!(f, "spd-corners"),
-            Sampling::Stratified { spp } => write!(f, "stratified-{spp}"),
-            Sampling::Independent { spp } => write!(f, "independent-{spp}"),
         }
     }
 }

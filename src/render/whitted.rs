@@ -696,10 +696,11 @@ mod packet_tests {
     use super::*;
     use crate::load::Assets;
     use crate::nff::{parse_format, Format};
+    use crate::options::RenderOptions;
     use crate::prepare::prepare;
     use crate::render::integrator::NoRecord;
     use crate::render::shade::{P3fRules, SpdRules};
-    use crate::render::{Camera, RenderOptions};
+    use crate::render::Camera;
 
     /// `text`, a scene in `format`, prepared to render.
     fn scene_of(text: &str, format: Format) -> RenderScene {

@@ -3,8 +3,8 @@
 
 use super::protocol::{CameraMsg, OptionsMsg};
 use nffrt::math::Vec3;
+use nffrt::options::RenderRequest;
 use nffrt::prepare::PrepareOptions;
-use nffrt::render::RenderRequest;
 use nffrt::scene::{Dialect, View};
 
 /// The scene's view moved to `camera` (the lens, hither and angle span stay the
@@ -58,7 +58,7 @@ mod tests {
     use super::*;
     use crate::cli::view::protocol::IntegratorMsg;
     use nffrt::nff::{parse_format, Format, Limits};
-    use nffrt::render::Sampling;
+    use nffrt::options::Sampling;
     use nffrt::scene::Integrator;
 
     /// A view whose numbers need every digit.

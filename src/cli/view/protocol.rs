@@ -14,8 +14,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use nffrt::limits::{eye_grid_points, DEFAULT_SHUTTER, MAX_DEPTH, MAX_PIXELS, MAX_RESOLUTION, MAX_SPP};
-use nffrt::render::Sampling;
+use nffrt::limits::{DEFAULT_MAX_PIXELS, DEFAULT_SHUTTER, MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
+use nffrt::options::{eye_grid_points, Sampling};
 use nffrt::scene::{Accel, Integrator, View};
 
 /// The largest text message accepted; longer ones get an error reply.
@@ -162,7 +162,7 @@ impl LimitsMsg {
     /// nffrt's limits (`nffrt::limits`).
     pub const NFFRT: LimitsMsg = LimitsMsg {
         max_side: MAX_RESOLUTION,
-        max_pixels: MAX_PIXELS,
+        max_pixels: DEFAULT_MAX_PIXELS,
         max_depth: MAX_DEPTH,
         max_spp: MAX_SPP,
     };
@@ -335,8 +335,8 @@ fn check_options(o: &OptionsMsg) -> Result<(), String> {
             o.width, o.height
         ));
     }
-    if eye_grid_points(o.width, o.height, Sampling::PixelCenters) > MAX_PIXELS {
-        return Err(format!("bad options: more than {MAX_PIXELS} pixels"));
+    if eye_grid_points(o.width, o.height, Sampling::PixelCenters) > DEFAULT_MAX_PIXELS {
+        return Err(format!("bad options: more than {DEFAULT_MAX_PIXELS} pixels"));
     }
     if !(1..=MAX_DEPTH).contains(&o.max_depth) {
         return Err(format!(

@@ -20,8 +20,9 @@ use super::protocol::{encode_binary, FrameHeader};
 use super::scene::Loaded;
 use nffrt::image::Image;
 use nffrt::math::Vec3;
+use nffrt::options::RenderOptions;
 use nffrt::prepare::PrepareOptions;
-use nffrt::render::{render_preview, Accumulator, Observer, RenderOptions};
+use nffrt::render::{render_preview, Accumulator, Observer};
 use nffrt::scene::View;
 
 /// The most pixels the first, coarsest preview has.
