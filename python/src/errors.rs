@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use nffrt::load::LoadError;
-use nffrt::prepare::RenderError;
+use nffrt::render::RenderError;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
 use pyo3::prelude::*;
 

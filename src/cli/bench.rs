@@ -22,8 +22,9 @@ use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
 use nffrt::options::RenderRequest;
 use nffrt::options::{RenderOptions, Sampling};
-use nffrt::prepare::{prepare_with, PrepareOptions, RenderError};
+use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::Camera;
+use nffrt::render::RenderError;
 use nffrt::scene::{Accel, Integrator};
 use nffrt::words::count;
 

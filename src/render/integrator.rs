@@ -19,7 +19,7 @@ use std::cell::Cell;
 use super::bsdf::BsdfSample;
 use super::light::LightSampling;
 use super::path::PathTracer;
-use super::shade::{Branch, Model, P3fRules, SpdRules};
+use super::shade::{Branch, P3fRules, SpdRules};
 use super::stats::Stats;
 use super::whitted::Whitted;
 use crate::accel::NO_HINT;
@@ -27,6 +27,7 @@ use crate::geometry::{Hit, Primitive};
 use crate::image::skybox::SkyTexel;
 use crate::math::{Ray, Vec3};
 use crate::options::RenderOptions;
+use crate::prepare::Model;
 use crate::prepare::RenderScene;
 use crate::scene::Integrator as Method;
 

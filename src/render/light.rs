@@ -16,31 +16,9 @@
 //! - soft shadows off (the viewer's toggle): the light's centre alone.
 
 use crate::math::Vec3;
-use crate::scene::Light;
+use crate::prepare::LightSource;
 
 use super::sampling::{Dim, SampleId};
-
-/// One light of the scene with its intensity resolved.
-#[derive(Clone, Copy, Debug)]
-pub struct LightSource {
-    /// The point light's position, or the area light's corner.
-    pub position: Vec3,
-    /// Intensity (RGB).
-    pub intensity: Vec3,
-    /// The area light's extent.
-    pub area: Option<LightQuad>,
-}
-
-/// An area light's parallelogram: the points `position + u edge1 + v edge2`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightQuad {
-    /// First edge from the corner.
-    pub edge1: Vec3,
-    /// Second edge from the corner.
-    pub edge2: Vec3,
-    /// Points per side of its regular grid.
-    pub grid: u32,
-}
 
 /// How area lights are sampled in a render (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,22 +30,6 @@ pub struct LightSampling {
 }
 
 impl LightSource {
-    /// The scene's `lights` with the given intensity for those without a colour.
-    pub fn of(lights: &[Light], default_intensity: Vec3) -> Vec<LightSource> {
-        lights
-            .iter()
-            .map(|l| LightSource {
-                position: l.position,
-                intensity: l.color.unwrap_or(default_intensity),
-                area: l.area.map(|a| LightQuad {
-                    edge1: a.v1 - l.position,
-                    edge2: a.v2 - l.position,
-                    grid: a.grid,
-                }),
-            })
-            .collect()
-    }
-
     /// How many points of this light a hit samples (each carries that fraction of the
     /// intensity); [`LightSource::sample_points`] visits them.
     #[inline]
@@ -134,6 +96,7 @@ impl LightSource {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prepare::LightQuad;
 
     fn quad(grid: u32) -> LightSource {
         LightSource {

@@ -13,11 +13,10 @@
 //! [`render_region`] renders a crop: every sample position depends only on absolute
 //! pixel coordinates, so a crop's pixels equal the full render's there, bit for bit.
 
-mod background;
 pub mod bsdf;
 mod camera;
 pub mod debug;
-pub mod emitters;
+mod door;
 pub mod integrator;
 mod light;
 pub mod microfacet;
@@ -31,17 +30,17 @@ mod shade;
 mod stats;
 pub mod whitted;
 
-pub use background::Background;
 pub use camera::{Camera, CameraSample};
+pub use door::RenderError;
 pub use integrator::{
     AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, PathEvent, Recorder, TraceContext,
 };
-pub use light::{LightQuad, LightSampling, LightSource};
+pub use light::LightSampling;
 pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
 pub use rows::Frame;
 pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
-pub use shade::{Branch, Facets, Lighting, Model, P3fRules, Rules, SpdRules};
+pub use shade::{Branch, Facets, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
 
 use rayon::prelude::*;

@@ -10,7 +10,7 @@
 //! too, so at the last depth none is taken.
 //!
 //! Materials map to BSDFs as `bsdf.rs` documents; lights and emitters as
-//! `emitters.rs` does. Every number a path draws is the eye sample's, one dimension
+//! `prepare/emitters.rs` does. Every number a path draws is the eye sample's, one dimension
 //! per segment and use, stratified like the lens's ([`Dim`]).
 
 use super::bsdf::Bsdf;

@@ -45,9 +45,9 @@
 //! surface is mirrored across it.
 
 use crate::math::Vec3;
-use crate::scene::{Dialect, Material, SceneInfo};
+use crate::prepare::lighting::Model;
+use crate::scene::Material;
 
-use super::light::LightSource;
 use super::optics::{reflect, refract, schlick};
 
 /// The kind of a secondary ray.
@@ -59,50 +59,6 @@ pub enum Branch {
     TotalInternalReflection,
     /// Refraction.
     Refraction,
-}
-
-/// Which rules shade the scene (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Model {
-    /// NFF: the SPD's Whitted rules.
-    Spd,
-    /// P3F: the course's, with Schlick-Fresnel dielectrics.
-    P3f,
-}
-
-/// The model's light intensities and ambient term for one scene.
-#[derive(Clone, Debug)]
-pub struct Lighting {
-    /// The rules.
-    pub model: Model,
-    /// Ambient intensity.
-    pub ambient: Vec3,
-    /// Every light with its intensity.
-    pub lights: Vec<LightSource>,
-}
-
-impl Lighting {
-    /// Resolves the scene's model and intensities (see the module docs).
-    pub fn new(scene: &SceneInfo) -> Lighting {
-        if scene.dialect != Dialect::Nff {
-            return Lighting {
-                model: Model::P3f,
-                ambient: Vec3::ZERO,
-                lights: LightSource::of(&scene.lights, Vec3::ONE),
-            };
-        }
-        let n = scene.lights.len();
-        let default = if n == 0 {
-            1.0
-        } else {
-            (n as f32).sqrt() / (2.0 * n as f32)
-        };
-        Lighting {
-            model: Model::Spd,
-            ambient: Vec3::splat(default),
-            lights: LightSource::of(&scene.lights, Vec3::splat(default)),
-        }
-    }
 }
 
 /// The local term of a unit-intensity light in unit direction `l` under the rules
@@ -335,17 +291,6 @@ mod tests {
 
     fn close(a: Vec3, b: Vec3) -> bool {
         (a - b).length() < 1e-5
-    }
-
-    #[test]
-    fn default_intensity_is_sqrt_n_over_2n() {
-        let mut scene = crate::scene::Scene::default();
-        for _ in 0..4 {
-            scene.lights.push(crate::scene::Light::point(Vec3::ZERO, None));
-        }
-        let l = Lighting::new(&scene.info());
-        assert_eq!(l.ambient, Vec3::splat(0.25));
-        assert_eq!(l.lights[3].intensity, Vec3::splat(0.25));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 use std::marker::PhantomData;
 
 use super::integrator::{AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, Recorder, TraceContext};
-use super::light::{LightSampling, LightSource};
+use super::light::LightSampling;
 use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
@@ -18,6 +18,7 @@ use super::shade::{local, Branch, Facets, Rules};
 use crate::accel::{Ray8, RayLanes, PACKET};
 use crate::geometry::{point_error, Hit, Primitive};
 use crate::math::{lanes, Ray, Vec3};
+use crate::prepare::LightSource;
 use crate::prepare::RenderScene;
 use crate::scene::Material;
 

@@ -15,7 +15,7 @@
 
 use std::f32::consts::PI;
 
-use super::light::LightSource;
+use super::lighting::LightSource;
 use crate::accel::Bvh;
 use crate::geometry::{Primitive, Shape};
 use crate::math::Vec3;

@@ -1,0 +1,156 @@
+//! The prepare step: a parsed [`Scene`] and its [`Assets`] made into a
+//! [`RenderScene`], everything a render reads, built once: the acceleration
+//! structure over the render-time primitives, the materials, the light sources with
+//! their intensities, the background, and the shading rules. The command line, the
+//! viewer and the Python bindings all render a `RenderScene`, any number of times,
+//! from any thread, each render with its own camera ([`View`]) and options.
+//!
+//! The scene is consumed: its primitive lists are converted and then freed before the
+//! acceleration structure is built (the memory peak); its settings, lights and
+//! materials as parsed, and a summary of its primitives, stay as [`SceneInfo`].
+//!
+//! ```
+//! use nffrt::{load::Assets, options::RenderOptions, prepare::prepare};
+//! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
+//!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
+//! let prepared = prepare(scene, &Assets::default());
+//! let opts = RenderOptions::from_view(prepared.view());
+//! let (image, stats) = prepared.render(prepared.view(), &opts).unwrap();
+//! assert_eq!((image.width, stats.eye_rays), (8, 64));
+//! ```
+
+pub mod background;
+pub mod emitters;
+pub mod lighting;
+
+pub use background::Background;
+pub use emitters::Emitters;
+pub use lighting::{LightQuad, LightSource, Lighting, Model};
+
+use crate::accel::{Aggregate, Bvh};
+use crate::geometry::{build_geometry_for_shutter, Primitive};
+use crate::image::skybox::FaceError;
+use crate::load::Assets;
+use crate::scene::{Accel, Material, Scene, SceneInfo, View};
+
+/// A scene ready to render (see the module docs).
+pub struct RenderScene {
+    info: SceneInfo,
+    accel: Aggregate,
+    lighting: Lighting,
+    background: Background,
+    shutter: [f32; 2],
+    /// Moving geometry seen over a shutter that stays open for some time.
+    motion: bool,
+    /// The lights and emissive primitives a path tracer samples.
+    emitters: Emitters,
+}
+
+/// What a caller may choose of the render-time scene, replacing the file's settings.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PrepareOptions {
+    /// When the camera's shutter opens and closes (`[open, close]`, `open <= close`;
+    /// default: the file's `shutter`, else [`crate::limits::DEFAULT_SHUTTER`]).
+    /// Moving geometry is bounded over it.
+    pub shutter: Option<[f32; 2]>,
+    /// The acceleration structure (default: the file's `accel`, else the BVH).
+    pub accel: Option<Accel>,
+}
+
+/// Prepares `scene` with the files it names, `assets` (its skybox, if decoded), as
+/// the file says.
+pub fn prepare(scene: Scene, assets: &Assets) -> RenderScene {
+    prepare_with(scene, assets, &PrepareOptions::default())
+}
+
+/// Prepares `scene` with the files it names, `assets`, and the choices of `opts`.
+pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> RenderScene {
+    let info = scene.info();
+    let shutter = opts.shutter.unwrap_or(info.shutter);
+    let geometry = build_geometry_for_shutter(&scene, shutter);
+    drop(scene);
+    let moving = info.has_moving_spheres();
+    let lighting = Lighting::new(&info);
+    let accel = Aggregate::new(
+        Bvh::new(geometry),
+        opts.accel.or(info.accel).unwrap_or(Accel::Bvh),
+    );
+    RenderScene {
+        emitters: Emitters::new(&lighting.lights, accel.bvh(), &info.materials),
+        lighting,
+        background: Background::new(info.background, assets.skybox.clone()),
+        accel,
+        shutter,
+        motion: moving && shutter[1] > shutter[0],
+        info,
+    }
+}
+
+impl RenderScene {
+    /// The scene's settings and summary.
+    pub fn info(&self) -> &SceneInfo {
+        &self.info
+    }
+
+    /// The scene file's camera.
+    pub fn view(&self) -> &View {
+        &self.info.view
+    }
+
+    /// When the camera's shutter opens and closes.
+    pub fn shutter(&self) -> [f32; 2] {
+        self.shutter
+    }
+
+    /// True if some geometry moves while the shutter is open: eye samples then take
+    /// their times.
+    pub fn has_motion(&self) -> bool {
+        self.motion
+    }
+
+    /// The acceleration structure.
+    pub fn accel(&self) -> &Aggregate {
+        &self.accel
+    }
+
+    /// The number of render-time primitives (polygons as the triangles they are cut
+    /// into, a split cone once).
+    pub fn primitive_count(&self) -> usize {
+        self.accel.primitive_count()
+    }
+
+    /// Render-time primitive `index`, as the acceleration structure reports it.
+    #[inline]
+    pub fn primitive(&self, index: u32) -> &Primitive {
+        self.accel.primitive(index)
+    }
+
+    /// The material table.
+    #[inline]
+    pub fn materials(&self) -> &[Material] {
+        &self.info.materials
+    }
+
+    /// The lights with their intensities, the ambient term and the shading rules.
+    pub fn lighting(&self) -> &Lighting {
+        &self.lighting
+    }
+
+    /// The lights and emissive primitives a path tracer samples.
+    pub fn emitters(&self) -> &Emitters {
+        &self.emitters
+    }
+
+    /// What rays that leave the scene see.
+    pub fn background(&self) -> &Background {
+        &self.background
+    }
+
+    /// Waits until the files the scene names are decoded (a skybox's faces are decoded
+    /// while rendering, [`crate::image::skybox::Skybox`]): the first that could not
+    /// be, whose rays saw black. A caller tracing rays itself checks this before
+    /// giving out what it traced.
+    pub fn decode_assets(&self) -> Result<(), FaceError> {
+        self.background.decode_all()
+    }
+}
