@@ -8,7 +8,7 @@ mod common;
 use criterion::{criterion_group, criterion_main, Criterion};
 use nffrt::gen::SpdScene;
 use nffrt::load::Assets;
-use nffrt::options::{RenderOptions, Sampling};
+use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare;
 use nffrt::render::{render, Accumulator, Silent};
 use std::hint::black_box;
@@ -55,9 +55,10 @@ fn progressive(c: &mut Criterion) {
     group.bench_function("passes_8spp", |b| {
         b.iter(|| {
             pool.install(|| {
-                let mut acc = Accumulator::new(&view, &opts).unwrap();
+                let mut acc = Accumulator::new(&view, &opts, &RenderLimits::default()).unwrap();
                 for count in [1, 1, 2, 4] {
-                    acc.pass(black_box(&scene), count, &Silent);
+                    acc.pass(black_box(&scene), count, &Silent)
+                        .expect("an unobserved pass runs to the end");
                 }
                 acc.image()
             })

@@ -17,7 +17,7 @@
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
 //!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
 //! let scene = prepare(scene, &Assets::default());
-//! let (image, stats) = render(&scene, scene.view(), &RenderOptions::from_view(scene.view()));
+//! let (image, stats) = render(&scene, scene.view(), &RenderOptions::from_view(scene.view())).unwrap();
 //! assert_eq!(stats.eye_rays, 64);
 //! assert!(image.get(4, 4).x > 0.5); // the sphere fills the centre
 //! ```

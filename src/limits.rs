@@ -31,8 +31,8 @@ pub const MAX_DEPTH: u32 = 64;
 /// The largest area-light grid side (`--light-samples`).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 /// The most eye-ray grid points (`options::eye_grid_points`) a render may have
-/// unless its caller raises the limit (`options::RenderLimits`: `--max-pixels`,
-/// Python's `max_pixels=`): 64 Mi (8192 x 8192), about 1.6 GB of float image while
+/// unless its caller raises the limit (`options::RenderLimits`, which
+/// `--max-pixels` sets): 64 Mi (8192 x 8192), about 1.6 GB of float image while
 /// rendering.
 pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
 /// The most worker threads a caller may ask for.

@@ -5,7 +5,7 @@
 use nffrt::load::Assets;
 use nffrt::math::{Ray, Vec3};
 use nffrt::nff::{parse_format, Format};
-use nffrt::options::{RenderOptions, Sampling};
+use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare;
 use nffrt::render::{render, Camera, CameraSample, Frame, NoRecord, SampleId, TraceContext};
 use nffrt::Scene;
@@ -151,7 +151,7 @@ fn stratified_16_spp_is_closer_to_the_converged_picture_than_16_independent_samp
             sampling,
             ..RenderOptions::from_view(scene.view())
         };
-        render(&scene, scene.view(), &opts).0.pixels
+        render(&scene, scene.view(), &opts).unwrap().0.pixels
     };
     let reference = with(Sampling::Stratified { spp: 1024 });
     let stratified = rms(&with(Sampling::Stratified { spp: 16 }), &reference);
@@ -181,9 +181,16 @@ fn distribution_effects_are_deterministic_across_threads_and_tiles() {
             .build()
             .unwrap();
         pool.install(|| {
-            render_region(&scene, scene.view(), &opts, &region, &Silent)
-                .unwrap()
-                .0
+            render_region(
+                &scene,
+                scene.view(),
+                &opts,
+                &region,
+                &RenderLimits::default(),
+                &Silent,
+            )
+            .unwrap()
+            .0
         })
     };
     let full = on(1, Region::full(opts.width, opts.height));

@@ -133,7 +133,7 @@ fn glass_absorbs_by_beer_lambert_over_the_path_inside() {
         "camera eye 0 0 10 at 0 0 0 up 0 1 0 angle 10 hither 1 resolution 9 9\n\
          bclr 1 1 1\nmat 1 0.5 0.25 0 1 1 1 0 10 1 1\ns 0 0 0 0.8\n",
     );
-    let (image, _) = render(&scene, scene.view(), &RenderOptions::from_view(scene.view()));
+    let (image, _) = render(&scene, scene.view(), &RenderOptions::from_view(scene.view())).unwrap();
     let got = image.get(4, 4);
     let want = [1.0f32, 0.5, 0.25].map(|c| (-(1.0 - c) * 1.6).exp());
     for (g, w) in got.to_array().into_iter().zip(want) {
@@ -147,7 +147,7 @@ fn glass_absorbs_by_beer_lambert_over_the_path_inside() {
         "camera eye 0 0 10 at 0 0 0 up 0 1 0 angle 10 hither 1 resolution 9 9\n\
          bclr 1 1 1\nmat 0.2 0.9 1 0 1 1 1 0 10 1 1\nbox -2 -2 -0.25 2 2 0.25\n",
     );
-    let (image, _) = render(&slab, slab.view(), &RenderOptions::from_view(slab.view()));
+    let (image, _) = render(&slab, slab.view(), &RenderOptions::from_view(slab.view())).unwrap();
     let got = image.get(4, 4);
     let want = [0.2f32, 0.9, 1.0].map(|c| (-(1.0 - c) * 0.5).exp());
     for (g, w) in got.to_array().into_iter().zip(want) {
@@ -192,7 +192,7 @@ fn a_moving_sphere_blurs_into_the_analytic_coverage_profile() {
         sampling: Sampling::Stratified { spp: 1024 },
         ..RenderOptions::from_view(scene.view())
     };
-    let (image, _) = render(&scene, scene.view(), &opts);
+    let (image, _) = render(&scene, scene.view(), &opts).unwrap();
     let pitch = 2.0 * (angle.to_radians() / 2.0).tan() / h as f64;
     let y = h / 2;
     let mut worst = 0.0f64;
@@ -252,6 +252,7 @@ fn roughness_zero_is_the_smooth_surface_and_roughness_spreads_reflections() {
                 ..RenderOptions::from_view(scene.view())
             },
         )
+        .unwrap()
         .0
     };
     let render_text = |t: &str| render_with(t, true, Method::Whitted);

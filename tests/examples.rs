@@ -54,7 +54,7 @@ fn path_render(scene: &RenderScene, width: u32, spp: u32, max_depth: u32) -> Ima
         integrator: Integrator::Path,
         ..RenderOptions::from_view(view)
     };
-    render(scene, view, &opts).0
+    render(scene, view, &opts).unwrap().0
 }
 
 /// The mean of each channel over the columns `x0..x1` of the rows `y0..y1`.

@@ -26,7 +26,7 @@ fn render_src(src: &str, size: u32, max_depth: u32, sampling: Sampling) -> (Imag
         sampling,
         ..Default::default()
     };
-    render(&scene, scene.view(), &opts)
+    render(&scene, scene.view(), &opts).unwrap()
 }
 
 /// Every pixel finite and strictly positive (see the module docs).
@@ -235,7 +235,7 @@ fn depth_64_in_a_mirror_box_fits_a_small_stack() {
         .stack_size(512 * 1024)
         .build()
         .unwrap();
-    let (img, stats) = pool.install(|| render(&scene, scene.view(), &opts));
+    let (img, stats) = pool.install(|| render(&scene, scene.view(), &opts)).unwrap();
     assert_eq!(stats.eye_hits, 16);
     assert_eq!(stats.reflection_rays, 16 * 63);
     assert_eq!(stats.secondary_hits, 16 * 63);
@@ -261,7 +261,7 @@ fn mirror_box_edges_and_corners_keep_every_ray_inside() {
         sampling: Sampling::PixelCenters,
         ..Default::default()
     };
-    let (img, stats) = render(&scene, scene.view(), &opts);
+    let (img, stats) = render(&scene, scene.view(), &opts).unwrap();
     assert_eq!(stats.eye_hits, 9);
     assert_eq!(stats.reflection_rays, 9 * 15);
     assert_eq!(stats.secondary_hits, 9 * 15, "a ray escaped the closed box");

@@ -8,7 +8,7 @@
 use nffrt::image::{Image, Region};
 use nffrt::load::Assets;
 use nffrt::nff::{parse_format, Format};
-use nffrt::options::{RenderOptions, Sampling};
+use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{render, render_region, Silent};
 use nffrt::scene::Integrator;
@@ -57,12 +57,12 @@ fn a_white_furnace_returns_the_albedo() {
     let one = p3f(&format!(
         "{CAMERA}bclr 1 1 1\nmat 1 1 1 1 0 0 0 0 1 0 1\ns 0 0 0 1\n"
     ));
-    let (image, _) = render(&one, one.view(), &path_opts(&one, 16, 8));
+    let (image, _) = render(&one, one.view(), &path_opts(&one, 16, 8)).unwrap();
     assert_everywhere(&image, 1.0, 1e-5, 1e-6, "albedo 1");
     let half = p3f(&format!(
         "{CAMERA}bclr 1 1 1\nmat 1 1 1 0.5 0 0 0 0 1 0 1\ns 0 0 0 1.5\n"
     ));
-    let (image, _) = render(&half, half.view(), &path_opts(&half, 16, 8));
+    let (image, _) = render(&half, half.view(), &path_opts(&half, 16, 8)).unwrap();
     // The sphere of radius 1.5 at distance 5 fills the centre of the 30-degree view.
     for y in 6..10 {
         for x in 6..10 {
@@ -82,12 +82,12 @@ fn a_smooth_dielectric_sphere_in_the_furnace_renders_one() {
     let glass = p3f(&format!(
         "{CAMERA}bclr 1 1 1\nmat 1 1 1 0 1 1 1 0 1 1 1.5\ns 0 0 0 1\n"
     ));
-    let (image, _) = render(&glass, glass.view(), &path_opts(&glass, 256, 64));
+    let (image, _) = render(&glass, glass.view(), &path_opts(&glass, 256, 64)).unwrap();
     assert_everywhere(&image, 1.0, 0.03, 0.002, "glass");
     let rough = p3f(&format!(
         "{CAMERA}bclr 1 1 1\nmat 1 1 1 0 1 1 1 0 1 1 1.5 roughness 0.3\ns 0 0 0 1\n"
     ));
-    let (image, _) = render(&rough, rough.view(), &path_opts(&rough, 256, 64));
+    let (image, _) = render(&rough, rough.view(), &path_opts(&rough, 256, 64)).unwrap();
     // Rough: single scattering on microfacets loses a little (Walter et al.'s model
     // has no multiple scattering between facets), never gains.
     let mean = image.pixels.iter().map(|p| p.x as f64).sum::<f64>() / image.pixels.len() as f64;
@@ -105,7 +105,7 @@ fn an_emitting_enclosure_lights_a_diffuse_sphere_to_albedo_times_radiance() {
          bclr 0 0 0\nmat 0 0 0 0 0 0 0 0 1 0 1 2 2 2\ns 0 0 0 -6\n\
          mat 1 1 1 0.5 0 0 0 0 1 0 1\ns 0 0 0 1.5\n",
     );
-    let (image, _) = render(&scene, scene.view(), &path_opts(&scene, 256, 4));
+    let (image, _) = render(&scene, scene.view(), &path_opts(&scene, 256, 4)).unwrap();
     assert_everywhere(&image, 1.0, 0.05, 0.003, "enclosure");
 }
 
@@ -125,7 +125,7 @@ fn path_pictures_are_the_same_on_any_thread_count_and_in_tiles() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| render(&scene, scene.view(), &opts).0)
+        pool.install(|| render(&scene, scene.view(), &opts).unwrap().0)
     };
     let full = on(1);
     assert_eq!(on(2), full);
@@ -135,7 +135,8 @@ fn path_pictures_are_the_same_on_any_thread_count_and_in_tiles() {
         x1: 11,
         y1: 13,
     };
-    let (crop, _) = render_region(&scene, scene.view(), &opts, &r, &Silent).unwrap();
+    let (crop, _) =
+        render_region(&scene, scene.view(), &opts, &r, &RenderLimits::default(), &Silent).unwrap();
     for y in 0..crop.height {
         for x in 0..crop.width {
             assert_eq!(crop.get(x, y), full.get(x + r.x0, y + r.y0));

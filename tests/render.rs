@@ -19,7 +19,7 @@ fn render_with_threads(src: &str, threads: usize, sampling: Sampling) -> (Image,
         .num_threads(threads)
         .build()
         .unwrap();
-    pool.install(|| render(&scene, scene.view(), &opts))
+    pool.install(|| render(&scene, scene.view(), &opts)).unwrap()
 }
 
 fn example() -> String {
@@ -86,7 +86,7 @@ fn max_depth_bounds_the_ray_tree() {
             max_depth: depth,
             ..RenderOptions::from_view(scene.view())
         };
-        let (_, st) = render(&scene, scene.view(), &opts);
+        let (_, st) = render(&scene, scene.view(), &opts).unwrap();
         assert_eq!(st.reflection_rays, depth as u64 - 1, "depth {depth}");
     }
 }

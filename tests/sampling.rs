@@ -5,7 +5,7 @@
 use nffrt::image::{Image, Region};
 use nffrt::load::Assets;
 use nffrt::nff::parse;
-use nffrt::options::{RenderOptions, Sampling};
+use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare;
 use nffrt::render::debug::trace_pixel;
 use nffrt::render::{render, render_region, Silent};
@@ -31,7 +31,7 @@ fn render_on(threads: usize, scene: &RenderScene, o: &RenderOptions) -> Image {
         .num_threads(threads)
         .build()
         .unwrap();
-    pool.install(|| render(scene, scene.view(), o).0)
+    pool.install(|| render(scene, scene.view(), o).unwrap().0)
 }
 
 #[test]
@@ -83,7 +83,7 @@ fn supersampling_averages_an_edge_by_its_coverage() {
             sampling: Sampling::Stratified { spp },
             ..RenderOptions::from_view(scene.view())
         };
-        let img = render(&scene, scene.view(), &o).0;
+        let img = render(&scene, scene.view(), &o).unwrap().0;
         // The outer columns are fully inside and fully outside.
         assert_eq!((img.get(0, 0).x, img.get(2, 0).x), (1.0, 0.0), "spp {spp}");
         img.get(1, 0).x
@@ -110,14 +110,16 @@ fn a_region_has_exactly_the_full_renders_pixels() {
         Sampling::Stratified { spp: 6 },
     ] {
         let o = opts(sampling);
-        let full = render(&scene, scene.view(), &o).0;
+        let full = render(&scene, scene.view(), &o).unwrap().0;
         let r = Region {
             x0: 7,
             y0: 3,
             x1: 30,
             y1: 36,
         };
-        let crop = render_region(&scene, scene.view(), &o, &r, &Silent).unwrap().0;
+        let crop = render_region(&scene, scene.view(), &o, &r, &RenderLimits::default(), &Silent)
+            .unwrap()
+            .0;
         assert_eq!((crop.width, crop.height), (23, 33));
         for y in 0..crop.height {
             for x in 0..crop.width {
@@ -140,9 +142,9 @@ fn a_traced_pixel_is_the_rendered_pixel() {
         (Sampling::Stratified { spp: 5 }, 5),
     ] {
         let o = opts(sampling);
-        let full = render(&scene, scene.view(), &o).0;
+        let full = render(&scene, scene.view(), &o).unwrap().0;
         for (x, y) in [(0, 0), (13, 20), (30, 17), (47, 35)] {
-            let t = trace_pixel(&scene, scene.view(), &o, x, y);
+            let t = trace_pixel(&scene, scene.view(), &o, x, y).unwrap();
             assert_eq!(t.value, full.get(x, y), "{sampling} ({x}, {y})");
             assert_eq!(t.samples.len(), rays);
             assert_eq!(t.stats.eye_rays, rays as u64);

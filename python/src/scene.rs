@@ -11,9 +11,9 @@ use nffrt::image::Region;
 use nffrt::load::{load_cancellable, LoadError, LoadOptions, Source};
 use nffrt::math::Vec3;
 use nffrt::nff::{parse_format_cancellable, Format, Limits};
-use nffrt::options::{image_size, RenderOptions, RenderRequest};
+use nffrt::options::{image_size, RenderLimits, RenderOptions, RenderRequest};
 use nffrt::prepare::{prepare, RenderScene};
-use nffrt::render::Stats;
+use nffrt::render::{render_region, Stats};
 use nffrt::scene::{Dialect, Integrator, Light, SceneInfo};
 use nffrt::words::shortest_f64;
 use pyo3::prelude::*;
@@ -195,11 +195,6 @@ impl PyScene {
     /// The render settings `request` asks for, as `nffrt render` reads its flags:
     /// the file's resolution and `spp` are the defaults.
     fn options(&self, request: &RenderRequest) -> PyResult<RenderOptions> {
-        if request.spd && request.spp.is_some() {
-            return Err(value_error(
-                "spd=True has its own sampling: it cannot be combined with spp",
-            ));
-        }
         let resolved = request.resolve(self.info()).map_err(value_error)?;
         Ok(resolved.opts)
     }
@@ -225,8 +220,14 @@ impl PyScene {
         let pool = pool(threads)?;
         let t0 = Instant::now();
         let rendered = without_gil(py, pool.as_ref(), |cancel| {
-            self.prepared
-                .render_region(self.prepared.view(), opts, &region, cancel)
+            render_region(
+                &self.prepared,
+                self.prepared.view(),
+                opts,
+                &region,
+                &RenderLimits::default(),
+                cancel,
+            )
         })?;
         let (image, stats) = rendered.map_err(render_error)?;
         if let Ok(mut last) = self.last_stats.lock() {

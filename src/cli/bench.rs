@@ -12,19 +12,18 @@ use rayon::prelude::*;
 use super::limits::RenderLimitArgs;
 use super::load::{load_scene, Need};
 use super::output::brief;
-use super::render::IntegratorArg;
+use super::render::{render_error, IntegratorArg};
 use super::values::whole_number;
 use super::CliError;
 use nffrt::accel::{Aggregate, Bvh, QueryCounts, PACKET};
 use nffrt::geometry::build_geometry;
+use nffrt::image::Region;
 use nffrt::limits::MAX_THREADS;
 use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
-use nffrt::options::RenderRequest;
-use nffrt::options::{RenderOptions, Sampling};
+use nffrt::options::{RenderOptions, RenderRequest};
 use nffrt::prepare::{prepare_with, PrepareOptions};
-use nffrt::render::Camera;
-use nffrt::render::RenderError;
+use nffrt::render::{render, Camera};
 use nffrt::scene::{Accel, Integrator};
 use nffrt::words::count;
 
@@ -162,7 +161,8 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     );
 
     let (w, h) = (scene.view.width, scene.view.height);
-    args.limits.check_pixels(w, h, Sampling::PixelCenters, false)?;
+    let primary_opts = RenderOptions::from_view(&scene.view);
+    args.limits.check(&primary_opts, &Region::full(w, h), false)?;
     let n_random = args.random.unwrap_or((w * h) as usize);
     if n_random as u64 > args.limits.max_pixels {
         return Err(CliError::usage(format!(
@@ -170,7 +170,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
             args.limits.max_pixels
         )));
     }
-    let camera = Camera::new(&scene.view, &RenderOptions::from_view(&scene.view));
+    let camera = Camera::new(&scene.view, &primary_opts);
     let primary: Vec<Ray> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .map(|(i, j)| camera.ray_at(i as f32 + 0.5, j as f32 + 0.5))
@@ -321,11 +321,8 @@ fn time_renders(
     };
     let scene = pool.install(|| prepare_with(loaded.scene.clone(), &loaded.assets, &prepare));
     let render = || {
-        pool.install(|| scene.render(scene.view(), &opts))
-            .map_err(|e| match e {
-                RenderError::Asset(e) => CliError::io(e.to_string()),
-                other => CliError::usage(other.to_string()),
-            })
+        pool.install(|| render(&scene, scene.view(), &opts))
+            .map_err(|e| render_error(e, false))
     };
     let (_, stats) = render()?;
     let mut seconds = Vec::new();

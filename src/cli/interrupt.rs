@@ -33,12 +33,17 @@ pub fn interrupted() -> bool {
 /// `Err` with the interrupted exit code once a signal has arrived.
 pub fn check() -> Result<(), CliError> {
     if interrupted() {
-        Err(CliError {
-            message: "interrupted".into(),
-            code: exit::INTERRUPTED,
-        })
+        Err(error())
     } else {
         Ok(())
+    }
+}
+
+/// The error of a run a signal ended.
+pub fn error() -> CliError {
+    CliError {
+        message: "interrupted".into(),
+        code: exit::INTERRUPTED,
     }
 }
 

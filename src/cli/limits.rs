@@ -1,18 +1,20 @@
 //! Resource limits on the command line: how large a scene file, how many primitives,
 //! vertices and lights, and how many pixels one run may take on. Everything is
 //! checked before the memory it guards is allocated; each limit has a flag to raise
-//! it (see "Limits" in `docs/command-line.md`).
+//! it (see "Limits" in `docs/command-line.md`). The pixel limit is the renderer's
+//! own ([`RenderLimits`]), which `--max-pixels` sets.
 
 use clap::Args;
 
 use super::values::whole_number;
 use super::CliError;
+use nffrt::image::Region;
 use nffrt::limits::{
     DEFAULT_MAX_LIGHTS, DEFAULT_MAX_PIXELS, DEFAULT_MAX_PRIMITIVES, DEFAULT_MAX_SCENE_BYTES,
     DEFAULT_MAX_VERTICES,
 };
 use nffrt::nff::{Format, Limits};
-use nffrt::options::{eye_grid_points, Sampling};
+use nffrt::options::{check_render, Refused, RenderLimits, RenderOptions};
 use nffrt::words::count;
 
 /// How a scene file is read, and the limits on what it may make nffrt read and build.
@@ -94,31 +96,45 @@ pub struct RenderLimitArgs {
 }
 
 impl RenderLimitArgs {
-    /// Refuses a render whose eye-ray grid over `width` x `height` pixels exceeds
-    /// `--max-pixels`, before any image memory is allocated: a usage error if the size
-    /// came from the command line (`from_flags`), a bad scene if it came from the file.
-    /// Supersampling (`--spp`) takes more time, not more memory, so it does not count.
-    pub fn check_pixels(
-        &self,
-        width: u32,
-        height: u32,
-        sampling: Sampling,
-        from_flags: bool,
-    ) -> Result<(), CliError> {
-        let grid = eye_grid_points(width, height, sampling);
-        if grid > self.max_pixels {
-            let message = format!(
-                "{width}x{height} is {}, more than the limit of {} (--max-pixels raises it; \
-                 the image takes about 24 bytes per pixel while rendering)",
-                count(grid, "pixel", "pixels"),
-                self.max_pixels
-            );
-            return Err(if from_flags {
-                CliError::usage(message)
-            } else {
-                CliError::scene(message)
-            });
+    /// The limits a render takes from these flags.
+    pub fn render_limits(&self) -> RenderLimits {
+        RenderLimits {
+            max_pixels: self.max_pixels,
         }
-        Ok(())
+    }
+
+    /// Checks a render of `region` with `opts` as the renderer will
+    /// ([`check_render`] under `--max-pixels`), before any memory it guards is
+    /// allocated; a refusal is an error whose code says whether the size came from
+    /// the command line (`from_flags`) or from the file ([`refused`]).
+    pub fn check(&self, opts: &RenderOptions, region: &Region, from_flags: bool) -> Result<(), CliError> {
+        check_render(opts, region, &self.render_limits()).map_err(|e| refused(e, from_flags))
+    }
+}
+
+/// A refused render as the command line reports it: too many pixels names the flag
+/// that raises the limit and is a usage error if the size came from the command
+/// line (`from_flags`), a bad scene if it came from the file; any other refusal is a
+/// usage error. Supersampling (`--spp`) takes more time, not more memory, so it does
+/// not count.
+pub fn refused(e: Refused, from_flags: bool) -> CliError {
+    let Refused::TooManyPixels {
+        width,
+        height,
+        points,
+        limit,
+    } = e
+    else {
+        return CliError::usage(e.to_string());
+    };
+    let message = format!(
+        "{width}x{height} is {}, more than the limit of {limit} (--max-pixels raises it; \
+         the image takes about 24 bytes per pixel while rendering)",
+        count(points, "pixel", "pixels"),
+    );
+    if from_flags {
+        CliError::usage(message)
+    } else {
+        CliError::scene(message)
     }
 }

@@ -4,8 +4,8 @@
 
 use std::io::Write;
 
-use super::load::{decoded_assets, load_scene, print_warnings, Need};
-use super::render::{prepare_options, resolve, RenderArgs};
+use super::load::{load_scene, print_warnings, Need};
+use super::render::{prepare_options, render_error, resolve, RenderArgs};
 use super::CliError;
 use nffrt::prepare::prepare_with;
 use nffrt::render::debug::trace_pixel;
@@ -26,8 +26,7 @@ pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
         )));
     }
     let scene = prepare_with(loaded.scene, &loaded.assets, &prepare_options(args));
-    let trace = trace_pixel(&scene, scene.view(), &opts, x, y);
-    decoded_assets(&scene)?;
+    let trace = trace_pixel(&scene, scene.view(), &opts, x, y).map_err(|e| render_error(e, true))?;
     let mut out = std::io::stdout().lock();
     match write!(out, "{trace}").and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {

@@ -7,8 +7,8 @@ use std::time::Instant;
 use clap::Args;
 
 use super::image_out::{display_name, format_of, is_stdout, Destination};
-use super::limits::RenderLimitArgs;
-use super::load::{decoded_assets, load_scene, print_warnings, Need};
+use super::limits::{refused, RenderLimitArgs};
+use super::load::{load_scene, print_warnings, Need};
 use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput, Named};
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
@@ -21,7 +21,7 @@ use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
 use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
-use nffrt::render::{region_eye_rows, render_region};
+use nffrt::render::{region_eye_rows, render_region, RenderError};
 use nffrt::scene::{Accel, Integrator, SceneInfo};
 use nffrt::words::count;
 
@@ -292,11 +292,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let opts = resolve(&args, &info)?;
     let full = Region::full(opts.width, opts.height);
     let region = args.region.unwrap_or(full);
-    region
-        .check_within(opts.width, opts.height)
-        .map_err(CliError::usage)?;
     let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
-    (args.limits).check_pixels(region.width(), region.height(), opts.sampling, sized_by_flags)?;
+    args.limits.check(&opts, &region, sized_by_flags)?;
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
     let stats_file = args.stats_json.as_deref().filter(|p| !is_stdout(p));
@@ -309,11 +306,10 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     interrupt::check()?;
     let t2 = Instant::now();
     let progress = Progress::new(region_eye_rows(&opts, &region), progress_mode(&args));
-    let rendered = pool.install(|| render_region(&scene, scene.view(), &opts, &region, &progress));
+    let limits = args.limits.render_limits();
+    let rendered = pool.install(|| render_region(&scene, scene.view(), &opts, &region, &limits, &progress));
     progress.finish();
-    let (image, rays) =
-        rendered.ok_or_else(|| interrupt::check().expect_err("cancelled only on a signal"))?;
-    decoded_assets(&scene)?;
+    let (image, rays) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
     let render_s = t2.elapsed().as_secs_f64();
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
@@ -369,6 +365,17 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// A render that did not run to the end as the command line reports it: a refusal
+/// ([`refused`]), an interruption (the only cancellation), or a skybox face that
+/// could not be read (an I/O error).
+pub fn render_error(e: RenderError, from_flags: bool) -> CliError {
+    match e {
+        RenderError::Refused(e) => refused(e, from_flags),
+        RenderError::Cancelled => interrupt::error(),
+        RenderError::Asset(e) => CliError::io(e.to_string()),
+    }
 }
 
 /// The text chunks of a tile: its place, its fingerprint (the scene's and that of

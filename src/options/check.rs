@@ -12,7 +12,7 @@ use crate::limits::{DEFAULT_MAX_PIXELS, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLU
 
 /// What one render may take on, as its caller allows: the most eye-ray grid points
 /// ([`eye_grid_points`]) of the region rendered. `--max-pixels` on the command line
-/// and `max_pixels=` in Python set it; the default is [`DEFAULT_MAX_PIXELS`].
+/// sets it; the default, [`DEFAULT_MAX_PIXELS`], is every other caller's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderLimits {
     /// The most eye-ray grid points a render may have.

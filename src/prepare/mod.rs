@@ -10,12 +10,12 @@
 //! materials as parsed, and a summary of its primitives, stay as [`SceneInfo`].
 //!
 //! ```
-//! use nffrt::{load::Assets, options::RenderOptions, prepare::prepare};
+//! use nffrt::{load::Assets, options::RenderOptions, prepare::prepare, render::render};
 //! let scene = nffrt::nff::parse("v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
 //!                                l 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
 //! let prepared = prepare(scene, &Assets::default());
 //! let opts = RenderOptions::from_view(prepared.view());
-//! let (image, stats) = prepared.render(prepared.view(), &opts).unwrap();
+//! let (image, stats) = render(&prepared, prepared.view(), &opts).unwrap();
 //! assert_eq!((image.width, stats.eye_rays), (8, 64));
 //! ```
 

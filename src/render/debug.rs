@@ -11,12 +11,12 @@ use std::fmt;
 
 use super::integrator::{AreaOutcome, HitRecord, LightOutcome, PathEvent, Recorder, TraceContext};
 use super::path_log::{write_path, PathStep};
-use super::{spd_mean, Branch, CameraSample, Frame, SampleId, Stats};
+use super::{spd_mean, Branch, CameraSample, Frame, RenderError, SampleId, Stats};
 use crate::geometry::SourceKind;
-use crate::image::quantize;
 use crate::image::skybox::SkyTexel;
+use crate::image::{quantize, Region};
 use crate::math::{Ray, Vec3};
-use crate::options::{RenderOptions, Sampling};
+use crate::options::{check_render, RenderLimits, RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::{Dialect, Material, View};
 
@@ -235,9 +235,23 @@ impl Recorder for TreeRecorder<'_> {
     }
 }
 
-/// Traces pixel `(x, y)` (inside `opts.width` x `opts.height`) of `scene` seen by
-/// `view` as the renderer does.
-pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u32, y: u32) -> PixelTrace {
+/// Traces pixel `(x, y)` of `scene` seen by `view` as the renderer does, the
+/// options and the pixel checked as [`super::render_region`] checks a render (a
+/// skybox face that could not be decoded is an error too).
+pub fn trace_pixel(
+    scene: &RenderScene,
+    view: &View,
+    opts: &RenderOptions,
+    x: u32,
+    y: u32,
+) -> Result<PixelTrace, RenderError> {
+    let pixel = Region {
+        x0: x,
+        y0: y,
+        x1: x.saturating_add(1),
+        y1: y.saturating_add(1),
+    };
+    check_render(opts, &pixel, &RenderLimits::default())?;
     let frame = Frame::new(scene, view, opts);
     let mut ctx = TraceContext::default();
     let mut samples = Vec::new();
@@ -278,7 +292,8 @@ pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u3
             sum
         }
     };
-    PixelTrace {
+    scene.decode_assets().map_err(RenderError::Asset)?;
+    Ok(PixelTrace {
         x,
         y,
         opts: *opts,
@@ -289,7 +304,7 @@ pub fn trace_pixel(scene: &RenderScene, view: &View, opts: &RenderOptions, x: u3
         stats: ctx.stats,
         lights: scene.info().lights.iter().map(|l| l.position).collect(),
         dialect: scene.info().dialect,
-    }
+    })
 }
 
 /// A vector with four decimals.
@@ -554,7 +569,7 @@ mod tests {
         let mut refracted = 0;
         for y in 0..opts.height {
             for x in 0..opts.width {
-                let t = trace_pixel(&scene, scene.view(), &opts, x, y);
+                let t = trace_pixel(&scene, scene.view(), &opts, x, y).unwrap();
                 let mut acc = [0; 5];
                 let Traced::Tree(tree) = &t.samples[0].1 else {
                     panic!("Whitted traces trees")
@@ -588,7 +603,8 @@ mod tests {
             &RenderOptions::from_view(scene.view()),
             1,
             1,
-        );
+        )
+        .unwrap();
         let json = serde_json::to_value(&t).unwrap();
         let hit = &json["samples"][0][1]["hit"];
         assert_eq!(hit["kind"], "Sphere");

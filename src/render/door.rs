@@ -1,10 +1,10 @@
-//! The checked way to start a render: the settings and the region are checked
-//! ([`check_render`]), the render runs, and what it could not do comes back as a
-//! [`RenderError`], never a panic.
+//! The one checked way to start a render ([`render_region`]): the settings, the
+//! region and the caller's limits are checked ([`check_render`]), the render runs,
+//! and what it could not do comes back as a [`RenderError`], never a panic.
 
 use thiserror::Error;
 
-use super::{render_region, Observer, Silent, Stats};
+use super::{trace_region, Observer, Silent, Stats};
 use crate::image::skybox::FaceError;
 use crate::image::{Image, Region};
 use crate::options::{check_render, Refused, RenderLimits, RenderOptions};
@@ -25,29 +25,32 @@ pub enum RenderError {
     Asset(FaceError),
 }
 
-impl RenderScene {
-    /// Renders the whole `opts.width` x `opts.height` image seen by `view` (see
-    /// [`RenderScene::render_region`]).
-    pub fn render(&self, view: &View, opts: &RenderOptions) -> Result<(Image, Stats), RenderError> {
-        let full = Region::full(opts.width, opts.height);
-        self.render_region(view, opts, &full, &Silent)
-    }
+/// Renders the whole `opts.width` x `opts.height` image of `scene` seen by `view`,
+/// within the default [`RenderLimits`], unobserved (see [`render_region`]).
+pub fn render(scene: &RenderScene, view: &View, opts: &RenderOptions) -> Result<(Image, Stats), RenderError> {
+    let full = Region::full(opts.width, opts.height);
+    render_region(scene, view, opts, &full, &RenderLimits::default(), &Silent)
+}
 
-    /// Checks `opts` and `region` ([`check_render`]), then renders the region of the
-    /// full image seen by `view`, reporting rows to `observer`: the same pixels as
-    /// the full render has there, bit for bit.
-    pub fn render_region(
-        &self,
-        view: &View,
-        opts: &RenderOptions,
-        region: &Region,
-        observer: &dyn Observer,
-    ) -> Result<(Image, Stats), RenderError> {
-        check_render(opts, region, &RenderLimits::default())?;
-        let rendered = render_region(self, view, opts, region, observer).ok_or(RenderError::Cancelled)?;
-        self.decode_assets().map_err(RenderError::Asset)?;
-        Ok(rendered)
-    }
+/// The one way every front end (the command line, the viewer's tiles, Python, Dask,
+/// `nffrt bench`) renders: checks `opts` and `region` against the limits and
+/// `limits` ([`check_render`]), then renders the region of the full image of `scene`
+/// seen by `view` into a region-sized image whose pixels are exactly those the full
+/// render has there, bit for bit, reporting rows to `observer`. Cancelling through
+/// the observer gives [`RenderError::Cancelled`]; a skybox face that could not be
+/// decoded gives [`RenderError::Asset`] (its rays saw black).
+pub fn render_region(
+    scene: &RenderScene,
+    view: &View,
+    opts: &RenderOptions,
+    region: &Region,
+    limits: &RenderLimits,
+    observer: &dyn Observer,
+) -> Result<(Image, Stats), RenderError> {
+    check_render(opts, region, limits)?;
+    let rendered = trace_region(scene, view, opts, region, observer).ok_or(RenderError::Cancelled)?;
+    scene.decode_assets().map_err(RenderError::Asset)?;
+    Ok(rendered)
 }
 
 #[cfg(test)]
@@ -75,14 +78,15 @@ mod tests {
             sampling: Sampling::Stratified { spp: 3 },
             ..RenderOptions::from_view(p.view())
         };
-        let (full, _) = p.render(p.view(), &opts).unwrap();
+        let (full, _) = render(&p, p.view(), &opts).unwrap();
         let r = Region {
             x0: 5,
             y0: 2,
             x1: 19,
             y1: 11,
         };
-        let (crop, stats) = p.render_region(p.view(), &opts, &r, &Silent).unwrap();
+        let (crop, stats) =
+            render_region(&p, p.view(), &opts, &r, &RenderLimits::default(), &Silent).unwrap();
         assert_eq!((crop.width, crop.height), (14, 9));
         assert_eq!(stats.eye_rays, 14 * 9 * 3);
         for y in 0..9 {
@@ -170,7 +174,7 @@ mod tests {
             ),
         ];
         for (opts, region, want) in cases {
-            match p.render_region(p.view(), &opts, &region, &Silent) {
+            match render_region(&p, p.view(), &opts, &region, &RenderLimits::default(), &Silent) {
                 Err(RenderError::Refused(m)) => assert!(m.to_string().contains(want), "{m:?} lacks {want:?}"),
                 other => panic!("{want}: {:?}", other.map(|(_, s)| s)),
             }
@@ -180,7 +184,7 @@ mod tests {
             height: 32768,
             ..good
         };
-        let e = p.render(p.view(), &huge).unwrap_err();
+        let e = render(&p, p.view(), &huge).unwrap_err();
         assert!(e.to_string().contains("more than the limit"), "{e}");
     }
 
@@ -213,7 +217,7 @@ mod tests {
         };
         let full = Region::full(23, 400);
         assert_eq!(
-            p.render_region(p.view(), &opts, &full, &observer).unwrap_err(),
+            render_region(&p, p.view(), &opts, &full, &RenderLimits::default(), &observer).unwrap_err(),
             RenderError::Cancelled
         );
         assert!(observer.rows.load(Ordering::SeqCst) < 400);

@@ -31,7 +31,7 @@ mod stats;
 pub mod whitted;
 
 pub use camera::{Camera, CameraSample};
-pub use door::RenderError;
+pub use door::{render, render_region, RenderError};
 pub use integrator::{
     AreaOutcome, HitRecord, Integrator, LightOutcome, NoRecord, PathEvent, Recorder, TraceContext,
 };
@@ -73,17 +73,6 @@ pub struct Silent;
 
 impl Observer for Silent {}
 
-/// Renders `scene` seen by `view` and returns the image and ray counts.
-pub fn render(scene: &RenderScene, view: &View, opts: &RenderOptions) -> (Image, Stats) {
-    render_region(scene, view, opts, &Region::full(opts.width, opts.height), &Silent)
-        .expect("a silent render is never cancelled")
-}
-
-/// Number of eye-ray rows a render traces (for progress reporting).
-pub fn eye_rows(opts: &RenderOptions) -> u64 {
-    region_eye_rows(opts, &Region::full(opts.width, opts.height))
-}
-
 /// Number of eye-ray rows a render of `region` traces (for progress reporting).
 pub fn region_eye_rows(opts: &RenderOptions, region: &Region) -> u64 {
     match opts.sampling {
@@ -93,17 +82,17 @@ pub fn region_eye_rows(opts: &RenderOptions, region: &Region) -> u64 {
 }
 
 /// Renders only `region` of the `opts.width` x `opts.height` image of `scene` seen by
-/// `view` (the region must lie inside) into a region-sized image whose pixels are
-/// exactly those the full render has there. `None` if the observer cancelled the
-/// render.
-pub fn render_region(
+/// `view` (the region must lie inside: [`render_region`] checks it) into a
+/// region-sized image whose pixels are exactly those the full render has there.
+/// `None` if the observer cancelled the render.
+fn trace_region(
     scene: &RenderScene,
     view: &View,
     opts: &RenderOptions,
     region: &Region,
     observer: &dyn Observer,
 ) -> Option<(Image, Stats)> {
-    assert!(
+    debug_assert!(
         region.x0 < region.x1 && region.y0 < region.y1 && region.x1 <= opts.width && region.y1 <= opts.height,
         "region {region} outside the {}x{} image",
         opts.width,

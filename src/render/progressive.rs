@@ -15,11 +15,10 @@
 //! `N / k`.
 
 use super::rows::{each_row, Frame};
-use super::Observer;
-use super::Stats;
-use crate::image::Image;
+use super::{Observer, RenderError, Stats};
+use crate::image::{Image, Region};
 use crate::math::Vec3;
-use crate::options::{RenderOptions, Sampling};
+use crate::options::{check_render, Refused, RenderLimits, RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::View;
 
@@ -28,14 +27,20 @@ use crate::scene::View;
 /// `x = min(i·stride + stride/2, w-1)` and `y` likewise, so the image is
 /// `ceil(w/stride)` x `ceil(h/stride)` and stands for the `stride` x `stride` block
 /// from `(i·stride, j·stride)`. Rows are reported to the observer as rows of the
-/// small image. `None` if the observer cancelled it.
+/// small image. The options are checked as [`super::render_region`] checks the
+/// full image's.
 pub fn render_preview(
     scene: &RenderScene,
     view: &View,
     opts: &RenderOptions,
     stride: u32,
     observer: &dyn Observer,
-) -> Option<(Image, Stats)> {
+) -> Result<(Image, Stats), RenderError> {
+    check_render(
+        opts,
+        &Region::full(opts.width, opts.height),
+        &RenderLimits::default(),
+    )?;
     let stride = stride.max(1);
     let (w, h) = (opts.width.div_ceil(stride), opts.height.div_ceil(stride));
     let full = |i: u32, size: u32| (i * stride + stride / 2).min(size - 1);
@@ -45,8 +50,9 @@ pub fn render_preview(
     let stats = each_row(&mut pixels, w as usize, observer, |j, row, ctx| {
         frame.add_samples(full(j, opts.height), &xs, 0..1, 1.0, row, ctx);
         observer.row_pixels(j, row);
-    })?;
-    Some((Image::from_pixels(w, h, pixels), stats))
+    })
+    .ok_or(RenderError::Cancelled)?;
+    Ok((Image::from_pixels(w, h, pixels), stats))
 }
 
 /// The full image converging sample by sample (see the module docs).
@@ -63,12 +69,15 @@ pub struct Accumulator {
 
 impl Accumulator {
     /// An empty accumulator for the image seen by `view` with `opts` (no samples
-    /// yet); `None` for [`Sampling::SpdCorners`], whose pixels share corner rays.
-    pub fn new(view: &View, opts: &RenderOptions) -> Option<Accumulator> {
+    /// yet), checked as [`super::render_region`] checks a render within `limits`;
+    /// [`Sampling::SpdCorners`], whose pixels share corner rays, is refused.
+    pub fn new(view: &View, opts: &RenderOptions, limits: &RenderLimits) -> Result<Accumulator, RenderError> {
+        check_render(opts, &Region::full(opts.width, opts.height), limits)?;
         if opts.sampling == Sampling::SpdCorners {
-            return None;
+            let why = "the SPD protocol's pixels share corner rays: they cannot be refined sample by sample";
+            return Err(Refused::Setting(why.into()).into());
         }
-        Some(Accumulator {
+        Ok(Accumulator {
             view: *view,
             opts: *opts,
             sums: vec![Vec3::ZERO; opts.width as usize * opts.height as usize],
@@ -99,11 +108,17 @@ impl Accumulator {
 
     /// Traces the next `count` samples of every pixel of `scene` (fewer if fewer are
     /// left) and adds them in. Each finished row goes to the observer as it would
-    /// show in [`Accumulator::image`] now. `None` if the observer cancelled the pass,
-    /// which leaves the accumulator unusable (every later pass returns `None` too).
-    pub fn pass(&mut self, scene: &RenderScene, count: u32, observer: &dyn Observer) -> Option<Stats> {
+    /// show in [`Accumulator::image`] now. [`RenderError::Cancelled`] if the observer
+    /// cancelled the pass, which leaves the accumulator unusable (every later pass is
+    /// cancelled too).
+    pub fn pass(
+        &mut self,
+        scene: &RenderScene,
+        count: u32,
+        observer: &dyn Observer,
+    ) -> Result<Stats, RenderError> {
         if self.torn {
-            return None;
+            return Err(RenderError::Cancelled);
         }
         let n = self.samples_per_pixel();
         let (first, end) = (self.done, (self.done + count).min(n));
@@ -121,10 +136,15 @@ impl Accumulator {
             }
         });
         match stats {
-            Some(_) => self.done = end,
-            None => self.torn = true,
+            Some(stats) => {
+                self.done = end;
+                Ok(stats)
+            }
+            None => {
+                self.torn = true;
+                Err(RenderError::Cancelled)
+            }
         }
-        stats
     }
 
     /// The picture so far: the sums scaled by `N / k` after `k` of `N` samples,
@@ -198,9 +218,9 @@ mod tests {
             Sampling::Independent { spp: 3 },
         ] {
             let opts = opts(&scene, sampling);
-            let (rendered, stats) = render(&scene, scene.view(), &opts);
+            let (rendered, stats) = render(&scene, scene.view(), &opts).unwrap();
             for split in [vec![1, 1, 2, 4, 8], vec![16], vec![3, 100]] {
-                let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
+                let mut acc = Accumulator::new(scene.view(), &opts, &RenderLimits::default()).unwrap();
                 let mut traced = Stats::default();
                 for count in split {
                     if !acc.is_complete() {
@@ -218,7 +238,7 @@ mod tests {
     fn a_partial_image_is_the_sum_so_far_rescaled_and_rows_are_reported_as_shown() {
         let scene = scene();
         let opts = opts(&scene, Sampling::Stratified { spp: 4 });
-        let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
+        let mut acc = Accumulator::new(scene.view(), &opts, &RenderLimits::default()).unwrap();
         let rows = Rows::default();
         acc.pass(&scene, 1, &rows).unwrap();
         assert_eq!(acc.samples_done(), 1);
@@ -246,28 +266,31 @@ mod tests {
     fn a_cancelled_pass_leaves_the_accumulator_unusable() {
         let scene = scene();
         let opts = opts(&scene, Sampling::Stratified { spp: 4 });
-        let mut acc = Accumulator::new(scene.view(), &opts).unwrap();
+        let mut acc = Accumulator::new(scene.view(), &opts, &RenderLimits::default()).unwrap();
         let stop = CancelAfter(0.into(), 0);
-        assert!(acc.pass(&scene, 2, &stop).is_none());
-        assert!(acc.pass(&scene, 2, &Silent).is_none());
+        assert_eq!(acc.pass(&scene, 2, &stop), Err(RenderError::Cancelled));
+        assert_eq!(acc.pass(&scene, 2, &Silent), Err(RenderError::Cancelled));
         assert_eq!(acc.samples_done(), 0);
         let spd = RenderOptions {
             sampling: Sampling::SpdCorners,
             ..opts
         };
-        assert!(Accumulator::new(scene.view(), &spd).is_none());
+        assert!(matches!(
+            Accumulator::new(scene.view(), &spd, &RenderLimits::default()),
+            Err(RenderError::Refused(_))
+        ));
     }
 
     #[test]
     fn a_preview_of_stride_one_is_the_centre_sampled_render_and_larger_strides_subsample_it() {
         let scene = scene();
         let opts = opts(&scene, Sampling::PixelCenters);
-        let (full, _) = render(&scene, scene.view(), &opts);
+        let (full, _) = render(&scene, scene.view(), &opts).unwrap();
         let pinhole = RenderOptions {
             aperture: Some(0.0),
             ..opts
         };
-        let (pinhole_full, _) = render(&scene, scene.view(), &pinhole);
+        let (pinhole_full, _) = render(&scene, scene.view(), &pinhole).unwrap();
         let rows = Rows::default();
         let (image, stats) = render_preview(&scene, scene.view(), &opts, 1, &rows).unwrap();
         // With one sample per pixel the lens is sampled at its centre: the render's
@@ -304,7 +327,15 @@ mod tests {
             let opts = opts(&scene, sampling);
             let rows = Rows::default();
             let full = crate::image::Region::full(opts.width, opts.height);
-            let (image, _) = render_region(&scene, scene.view(), &opts, &full, &rows).unwrap();
+            let (image, _) = render_region(
+                &scene,
+                scene.view(),
+                &opts,
+                &full,
+                &RenderLimits::default(),
+                &rows,
+            )
+            .unwrap();
             assert_eq!(rows.image(12, 9), image, "{sampling}");
         }
     }

@@ -2,10 +2,11 @@
 //! view written as the block to paste into the file ("copy camera").
 
 use super::protocol::{CameraMsg, OptionsMsg};
+use nffrt::image::Region;
 use nffrt::math::Vec3;
-use nffrt::options::RenderRequest;
+use nffrt::options::{check_render, RenderLimits, RenderOptions, RenderRequest};
 use nffrt::prepare::PrepareOptions;
-use nffrt::scene::{Dialect, View};
+use nffrt::scene::{Dialect, SceneInfo, View};
 
 /// The scene's view moved to `camera` (the lens, hither and angle span stay the
 /// file's), at the requested resolution.
@@ -29,13 +30,23 @@ pub fn request(options: &OptionsMsg) -> RenderRequest {
         width: Some(options.width),
         height: Some(options.height),
         max_depth: Some(options.max_depth),
-        spp: Some(options.spp.max(1)),
+        spp: Some(options.spp),
         aperture: (!options.lens).then_some(0.0),
         hard_shadows: !options.soft_shadows,
         smooth: !options.rough,
         integrator: Some(options.integrator.into()),
         ..RenderRequest::default()
     }
+}
+
+/// The options the page's settings give on `scene`, checked as every render is
+/// ([`check_render`]: the renderer's ranges and the default pixel limit, which
+/// the page is told of), or why they cannot be rendered.
+pub fn options_of(options: &OptionsMsg, scene: &SceneInfo) -> Result<RenderOptions, String> {
+    let opts = request(options).resolve(scene)?.opts;
+    let full = Region::full(opts.width, opts.height);
+    check_render(&opts, &full, &RenderLimits::default()).map_err(|e| e.to_string())?;
+    Ok(opts)
 }
 
 /// What the page's settings ask of the render-time scene.
@@ -153,5 +164,44 @@ mod tests {
         .opts;
         assert!(!r.roughness && r.integrator == Integrator::Path);
         assert_eq!(prepare_options(&o).shutter, Some([0.0, 1.0]));
+    }
+
+    /// The page's settings out of range are refused by the renderer's own checks,
+    /// each naming the setting; the pixel limit is the one the page is told of.
+    #[test]
+    fn settings_out_of_range_are_refused_naming_the_setting() {
+        let o = OptionsMsg {
+            width: 10,
+            height: 20,
+            max_depth: 3,
+            spp: 1,
+            lens: true,
+            soft_shadows: true,
+            rough: true,
+            integrator: IntegratorMsg::Whitted,
+            shutter: [0.0, 1.0],
+            accel: nffrt::scene::Accel::Bvh,
+        };
+        let scene = nffrt::Scene::default().info();
+        assert!(options_of(&o, &scene).is_ok());
+        for (bad, says) in [
+            (OptionsMsg { spp: 0, ..o }, "0 samples per pixel"),
+            (OptionsMsg { spp: 4097, ..o }, "4097 samples per pixel"),
+            (OptionsMsg { max_depth: 65, ..o }, "max depth 65"),
+            (OptionsMsg { max_depth: 0, ..o }, "max depth 0"),
+            (OptionsMsg { width: 32769, ..o }, "width 32769"),
+            (OptionsMsg { height: 0, ..o }, "height 0"),
+            (
+                OptionsMsg {
+                    width: 16384,
+                    height: 8192,
+                    ..o
+                },
+                "more than the limit of 67108864",
+            ),
+        ] {
+            let e = options_of(&bad, &scene).unwrap_err();
+            assert!(e.contains(says), "{e:?} lacks {says:?}");
+        }
     }
 }

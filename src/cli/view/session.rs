@@ -13,7 +13,7 @@ use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket};
 use tokio::sync::{broadcast, watch};
 
-use super::camera::{camera_block, prepare_options, request, view_of};
+use super::camera::{camera_block, options_of, prepare_options, view_of};
 use super::protocol::{
     encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
 };
@@ -166,8 +166,8 @@ impl Session {
         };
         self.gen += 1;
         let view = view_of(self.loaded.scene.view(), &r.camera, &r.options);
-        let opts = match request(&r.options).resolve(self.loaded.scene.info()) {
-            Ok(resolved) => resolved.opts,
+        let opts = match options_of(&r.options, self.loaded.scene.info()) {
+            Ok(opts) => opts,
             Err(message) => return ServerMessage::Error { message },
         };
         self.worker.submit(Job {
@@ -263,11 +263,18 @@ impl Session {
         self.tracing = Some(tokio::task::spawn_blocking(move || {
             let scene = &*loaded.prepared(&prepare_options(&r.options));
             let view = view_of(scene.view(), &r.camera, &r.options);
-            let opts = match request(&r.options).resolve(scene.info()) {
-                Ok(resolved) => resolved.opts,
+            let opts = match options_of(&r.options, scene.info()) {
+                Ok(opts) => opts,
                 Err(message) => return ServerMessage::Error { message },
             };
-            let trace = trace_pixel(scene, &view, &opts, x, y);
+            let trace = match trace_pixel(scene, &view, &opts, x, y) {
+                Ok(trace) => trace,
+                Err(e) => {
+                    return ServerMessage::Error {
+                        message: e.to_string(),
+                    }
+                }
+            };
             let Ok(trace) = serde_json::to_value(&trace) else {
                 return ServerMessage::Error {
                     message: "the ray tree could not be written".into(),

@@ -20,6 +20,7 @@ use super::protocol::{encode_binary, FrameHeader};
 use super::scene::Loaded;
 use nffrt::image::Image;
 use nffrt::math::Vec3;
+use nffrt::options::RenderLimits;
 use nffrt::options::RenderOptions;
 use nffrt::prepare::PrepareOptions;
 use nffrt::render::{render_preview, Accumulator, Observer};
@@ -216,7 +217,9 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
     let mut display = vec![0u8; 3 * w * h];
     let mut stride = first_stride(opts.width, opts.height);
     while stride > 1 {
-        let Some((image, _)) = render_preview(scene, &job.view, opts, stride, &watch) else {
+        // Refused options never get here (the session checks them first): only a
+        // newer request cancels.
+        let Ok((image, _)) = render_preview(scene, &job.view, opts, stride, &watch) else {
             return;
         };
         let rgb = image.to_rgb8();
@@ -224,7 +227,7 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         upscale(&rgb, image.width as usize, stride as usize, w, &mut display);
         stride /= 2;
     }
-    let Some(mut acc) = Accumulator::new(&job.view, opts) else {
+    let Ok(mut acc) = Accumulator::new(&job.view, opts, &RenderLimits::default()) else {
         return;
     };
     let display = Mutex::new((display, Instant::now()));
@@ -232,7 +235,7 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         watch.display = Some(&display);
         watch.samples = acc.samples_done();
         let count = acc.samples_done().max(1);
-        if acc.pass(scene, count, &watch).is_none() {
+        if acc.pass(scene, count, &watch).is_err() {
             return;
         }
         let image = Arc::new(acc.image());
