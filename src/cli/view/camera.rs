@@ -119,9 +119,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn options_map_to_the_render_flags() {
-        let o = OptionsMsg {
+    /// A 10x20 picture, depth 3, one sample, every effect on.
+    fn small_options() -> OptionsMsg {
+        OptionsMsg {
             width: 10,
             height: 20,
             max_depth: 3,
@@ -132,7 +132,12 @@ mod tests {
             integrator: IntegratorMsg::Whitted,
             shutter: [0.0, 1.0],
             accel: nffrt::scene::Accel::Bvh,
-        };
+        }
+    }
+
+    #[test]
+    fn options_map_to_the_render_flags() {
+        let o = small_options();
         let scene = nffrt::Scene::default().info();
         let r = request(&o).resolve(&scene).unwrap().opts;
         assert_eq!((r.width, r.height, r.max_depth), (10, 20, 3));
@@ -170,18 +175,7 @@ mod tests {
     /// each naming the setting; the pixel limit is the one the page is told of.
     #[test]
     fn settings_out_of_range_are_refused_naming_the_setting() {
-        let o = OptionsMsg {
-            width: 10,
-            height: 20,
-            max_depth: 3,
-            spp: 1,
-            lens: true,
-            soft_shadows: true,
-            rough: true,
-            integrator: IntegratorMsg::Whitted,
-            shutter: [0.0, 1.0],
-            accel: nffrt::scene::Accel::Bvh,
-        };
+        let o = small_options();
         let scene = nffrt::Scene::default().info();
         assert!(options_of(&o, &scene).is_ok());
         for (bad, says) in [
