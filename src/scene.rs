@@ -349,26 +349,69 @@ pub enum Accel {
     Bvh,
 }
 
-/// The light transport a P3F file asks for (`integrator`); the command line's
-/// choice wins over it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Integrator {
-    /// `integrator whitted`: Whitted's recursive ray tracing (distribution ray
-    /// tracing with more than one sample per pixel), the default.
+/// A light transport, by name: what a P3F file asks for (`integrator`), what
+/// `--integrator`, the viewer and Python choose (their choice wins over the
+/// file's). Its names are written and read here alone ([`IntegratorKind::name`],
+/// [`std::str::FromStr`]), and serde and every front end go through them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(into = "&'static str", try_from = "String")]
+pub enum IntegratorKind {
+    /// `whitted`: Whitted's recursive ray tracing (distribution ray tracing with
+    /// more than one sample per pixel), the default.
     #[default]
     Whitted,
-    /// `integrator path`: path tracing.
+    /// `path`: path tracing.
     Path,
 }
 
-impl Integrator {
-    /// The integrator's name as the file spells it.
+impl IntegratorKind {
+    /// Every light transport, in the order help texts list them.
+    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Whitted, IntegratorKind::Path];
+
+    /// The light transport's name, as files, flags and messages spell it.
     pub fn name(self) -> &'static str {
         match self {
-            Integrator::Whitted => "whitted",
-            Integrator::Path => "path",
+            IntegratorKind::Whitted => "whitted",
+            IntegratorKind::Path => "path",
         }
+    }
+
+    /// The names for a message: `'whitted' or 'path'`.
+    pub fn choices() -> String {
+        let names: Vec<String> = Self::ALL.iter().map(|k| format!("'{}'", k.name())).collect();
+        names.join(" or ")
+    }
+}
+
+impl std::fmt::Display for IntegratorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+
+    /// The light transport named `name` (exactly as [`IntegratorKind::name`] spells
+    /// it), or a message naming the choices.
+    fn from_str(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| format!("unknown integrator {name:?}: use {}", Self::choices()))
+    }
+}
+
+impl TryFrom<String> for IntegratorKind {
+    type Error = String;
+    fn try_from(name: String) -> Result<Self, String> {
+        name.parse()
+    }
+}
+
+impl From<IntegratorKind> for &'static str {
+    fn from(k: IntegratorKind) -> &'static str {
+        k.name()
     }
 }
 
@@ -452,7 +495,7 @@ pub struct Scene {
     /// means [`DEFAULT_SHUTTER`] (see [`Scene::shutter_interval`]).
     pub shutter: Option<[f32; 2]>,
     /// The integrator the file asks for (P3F `integrator`).
-    pub integrator: Option<Integrator>,
+    pub integrator: Option<IntegratorKind>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
 }
@@ -482,7 +525,7 @@ pub struct SceneInfo {
     /// When the camera's shutter opens and closes ([`Scene::shutter_interval`]).
     pub shutter: [f32; 2],
     /// The integrator the file asks for (P3F `integrator`).
-    pub integrator: Option<Integrator>,
+    pub integrator: Option<IntegratorKind>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
     /// The number of primitives of each kind outside meshes ([`Scene::kind_counts`]).
@@ -735,5 +778,28 @@ mod tests {
         let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
         assert!(close(b.min, Vec3::new(-k, -k, -1.0)), "{b:?}");
         assert!(close(b.max, Vec3::new(2.0 + k, 2.0 + k, 1.0)), "{b:?}");
+    }
+
+    #[test]
+    fn integrator_names_are_read_and_written_in_one_place() {
+        for (kind, name) in [
+            (IntegratorKind::Whitted, "whitted"),
+            (IntegratorKind::Path, "path"),
+        ] {
+            assert_eq!(kind.name(), name);
+            assert_eq!(kind.to_string(), name);
+            assert_eq!(name.parse::<IntegratorKind>(), Ok(kind));
+            let json = serde_json::to_string(&kind).unwrap();
+            assert_eq!(json, format!("\"{name}\""));
+            assert_eq!(serde_json::from_str::<IntegratorKind>(&json).unwrap(), kind);
+        }
+        let e = "Path".parse::<IntegratorKind>().unwrap_err();
+        assert_eq!(e, "unknown integrator \"Path\": use 'whitted' or 'path'");
+        assert!(serde_json::from_str::<IntegratorKind>("\"bdpt\"").is_err());
+        // An escaped name reads as its text.
+        assert_eq!(
+            serde_json::from_str::<IntegratorKind>("\"p\\u0061th\"").unwrap(),
+            IntegratorKind::Path
+        );
     }
 }

@@ -115,7 +115,7 @@ use nffrt::nff::{parse_format, Format};
 use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::render;
-use nffrt::scene::Integrator as Method;
+use nffrt::scene::IntegratorKind;
 
 /// A P3F scene from text, prepared.
 fn p3f(text: &str) -> RenderScene {
@@ -240,7 +240,7 @@ fn roughness_zero_is_the_smooth_surface_and_roughness_spreads_reflections() {
              mat 1 1 1 0 1 1 1 0.1 50 1 1.5{roughness}\ns 1 0.8 1 0.7\nspp 4\n"
         )
     };
-    let render_with = |t: &str, roughness: bool, integrator: Method| {
+    let render_with = |t: &str, roughness: bool, integrator: IntegratorKind| {
         let scene = p3f(t);
         render(
             &scene,
@@ -255,14 +255,14 @@ fn roughness_zero_is_the_smooth_surface_and_roughness_spreads_reflections() {
         .unwrap()
         .0
     };
-    let render_text = |t: &str| render_with(t, true, Method::Whitted);
+    let render_text = |t: &str| render_with(t, true, IntegratorKind::Whitted);
     let smooth = render_text(&text(""));
     assert_eq!(render_text(&text(" roughness 0")), smooth);
     let rough = render_text(&text(" roughness 0.5"));
     assert_ne!(rough, smooth);
     // The viewer's roughness switch turned off renders the rough file as the smooth
     // one, in both integrators.
-    for integrator in [Method::Whitted, Method::Path] {
+    for integrator in [IntegratorKind::Whitted, IntegratorKind::Path] {
         assert_eq!(
             render_with(&text(" roughness 0.5"), false, integrator),
             render_with(&text(""), true, integrator),

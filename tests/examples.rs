@@ -13,7 +13,7 @@ use nffrt::nff::{parse_format, Format};
 use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::render;
-use nffrt::scene::Integrator;
+use nffrt::scene::IntegratorKind;
 
 fn examples_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples")
@@ -51,7 +51,7 @@ fn path_render(scene: &RenderScene, width: u32, spp: u32, max_depth: u32) -> Ima
         height: (width * view.height / view.width).max(1),
         sampling: Sampling::Stratified { spp },
         max_depth,
-        integrator: Integrator::Path,
+        integrator: IntegratorKind::Path,
         ..RenderOptions::from_view(view)
     };
     render(scene, view, &opts).unwrap().0
@@ -89,7 +89,7 @@ fn every_example_parses_asks_for_paths_and_renders() {
         let text = std::fs::read_to_string(path).unwrap();
         assert!(text.starts_with("# "), "{what}: starts with where it comes from");
         let scene = load(path);
-        assert_eq!(scene.info().integrator, Some(Integrator::Path), "{what}");
+        assert_eq!(scene.info().integrator, Some(IntegratorKind::Path), "{what}");
         let image = path_render(&scene, 24, 2, 4);
         assert!(
             image

@@ -11,7 +11,7 @@ use nffrt::nff::{parse_format, Format};
 use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{render, render_region, Silent};
-use nffrt::scene::Integrator;
+use nffrt::scene::IntegratorKind;
 
 fn p3f(text: &str) -> RenderScene {
     let scene = parse_format(text.as_bytes(), Format::P3f, &Default::default()).unwrap();
@@ -22,7 +22,7 @@ fn path_opts(scene: &RenderScene, spp: u32, max_depth: u32) -> RenderOptions {
     RenderOptions {
         sampling: Sampling::Stratified { spp },
         max_depth,
-        integrator: Integrator::Path,
+        integrator: IntegratorKind::Path,
         ..RenderOptions::from_view(scene.view())
     }
 }

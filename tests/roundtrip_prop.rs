@@ -10,7 +10,7 @@ use common::compare::same_scene;
 use nffrt::math::Vec3;
 use nffrt::nff::{parse_bytes, parse_format, write_nff, write_p3f, Format};
 use nffrt::scene::{
-    AngleSpan, BoxPrim, Cone, Dialect, Integrator, Light, Material, MovingSphere, Patch, Plane, Polygon,
+    AngleSpan, BoxPrim, Cone, Dialect, IntegratorKind, Light, Material, MovingSphere, Patch, Plane, Polygon,
     Scene, Sphere, View,
 };
 use proptest::prelude::*;
@@ -235,7 +235,10 @@ fn p3f_scene() -> impl Strategy<Value = Scene> {
         prop::collection::vec((moving_sphere(), any::<prop::sample::Index>()), 0..6),
         (0.0f32..10.0, 0.1f32..10.0),
         prop::option::of((num(), num())),
-        prop::option::of(prop_oneof![Just(Integrator::Whitted), Just(Integrator::Path)]),
+        prop::option::of(prop_oneof![
+            Just(IntegratorKind::Whitted),
+            Just(IntegratorKind::Path)
+        ]),
     )
         .prop_map(
             |(mut s, finishes, moving, (aperture, focal), shutter, integrator)| {

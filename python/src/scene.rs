@@ -14,7 +14,7 @@ use nffrt::nff::{parse_format_cancellable, Format, Limits};
 use nffrt::options::{image_size, RenderLimits, RenderOptions, RenderRequest};
 use nffrt::prepare::{prepare, RenderScene};
 use nffrt::render::{render_region, Stats};
-use nffrt::scene::{Dialect, Integrator, Light, SceneInfo};
+use nffrt::scene::{Dialect, IntegratorKind, Light, SceneInfo};
 use nffrt::words::shortest_f64;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
@@ -271,16 +271,10 @@ impl PyScene {
         seed: u32,
         integrator: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let integrator = match integrator.map(str::to_ascii_lowercase).as_deref() {
-            None => None,
-            Some("whitted") => Some(Integrator::Whitted),
-            Some("path") => Some(Integrator::Path),
-            Some(other) => {
-                return Err(value_error(format!(
-                    "integrator {other:?}: use \"whitted\" or \"path\""
-                )))
-            }
-        };
+        let integrator = integrator
+            .map(|name| name.to_ascii_lowercase().parse::<IntegratorKind>())
+            .transpose()
+            .map_err(value_error)?;
         let opts = self.options(&RenderRequest {
             width,
             height,

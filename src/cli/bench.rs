@@ -12,8 +12,8 @@ use rayon::prelude::*;
 use super::limits::RenderLimitArgs;
 use super::load::{load_scene, Need};
 use super::output::brief;
-use super::render::{render_error, IntegratorArg};
-use super::values::whole_number;
+use super::render::render_error;
+use super::values::{self, whole_number};
 use super::CliError;
 use nffrt::accel::{Aggregate, Bvh, QueryCounts, PACKET};
 use nffrt::geometry::build_geometry;
@@ -24,7 +24,7 @@ use nffrt::math::{Ray, Vec3};
 use nffrt::options::{RenderOptions, RenderRequest};
 use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::{render, Camera};
-use nffrt::scene::{Accel, Integrator};
+use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
 
 /// Arguments of `nffrt bench`.
@@ -69,8 +69,8 @@ pub struct BenchArgs {
     /// transport, `whitted` or `path`, at the file's size and samples (path tracing's
     /// default without them: 16), on --threads threads; with the first structure of
     /// --accel.
-    #[arg(long, value_enum, value_name = "NAME")]
-    pub integrator: Option<IntegratorArg>,
+    #[arg(long, value_name = "NAME", value_parser = values::integrator())]
+    pub integrator: Option<IntegratorKind>,
     /// Resource limits (see "Limits" in docs/command-line.md); the primary and random ray sets
     /// count as pixels.
     #[command(flatten)]
@@ -216,14 +216,7 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
     }
     if let Some(integrator) = args.integrator {
         let accel = args.accel.structures()[0];
-        time_renders(
-            &pool,
-            &loaded,
-            integrator.into(),
-            accel,
-            args.repeat,
-            &mut summary,
-        )?;
+        time_renders(&pool, &loaded, integrator, accel, args.repeat, &mut summary)?;
     }
     summary.push(format!("threads={}", args.threads));
     outln!("{}", summary.join(" "));
@@ -304,7 +297,7 @@ fn time_structure(
 fn time_renders(
     pool: &rayon::ThreadPool,
     loaded: &Loaded,
-    integrator: Integrator,
+    integrator: IntegratorKind,
     accel: Accel,
     repeat: u32,
     summary: &mut Vec<String>,
@@ -333,10 +326,7 @@ fn time_renders(
     }
     let s = median(&mut seconds);
     let samples = opts.width as f64 * opts.height as f64 * opts.sampling.samples_per_pixel() as f64;
-    let name = match integrator {
-        Integrator::Whitted => "whitted",
-        Integrator::Path => "path",
-    };
+    let name = integrator.name();
     outln!(
         "  render: {name}, {}x{}, {}, max depth {}: {s:.3} s (median of {repeat}), {:.2} M samples/s, {:.2} Mrays/s",
         opts.width,

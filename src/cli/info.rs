@@ -10,7 +10,7 @@ use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::geometry::build_geometry;
-use nffrt::scene::{Accel, Integrator};
+use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
 
 /// Arguments of `nffrt info`.
@@ -101,7 +101,7 @@ struct InfoJson {
     spp: Option<u32>,
     /// P3F `integrator` as written, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
-    integrator: Option<Integrator>,
+    integrator: Option<IntegratorKind>,
     /// The shutter's opening and closing times: the file's `shutter`, else 0 and 1.
     shutter: [f32; 2],
     /// Materials that emit light (P3F's 14-number `f` / `mat`).

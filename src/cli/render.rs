@@ -22,7 +22,7 @@ use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUT
 use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::{region_eye_rows, render_region, RenderError};
-use nffrt::scene::{Accel, Integrator, SceneInfo};
+use nffrt::scene::{Accel, IntegratorKind, SceneInfo};
 use nffrt::words::count;
 
 /// Arguments of `nffrt render`.
@@ -89,8 +89,8 @@ pub struct RenderArgs {
     /// The light transport: `whitted` (recursive ray tracing, the SPD's and the
     /// course's rules) or `path` (path tracing with next-event estimation). Default:
     /// the file's P3F `integrator`, else whitted.
-    #[arg(long, value_enum, value_name = "NAME")]
-    pub integrator: Option<IntegratorArg>,
+    #[arg(long, value_name = "NAME", value_parser = values::integrator())]
+    pub integrator: Option<IntegratorKind>,
     /// The acceleration structure: `bvh`, `grid` (uniform) or `none` (every primitive
     /// tested for every ray). All three give the same picture; --stats shows the
     /// work each does. Default: the file's P3F `accel`, else bvh.
@@ -170,24 +170,6 @@ fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), C
     refuse_overwriting(&outputs, &[(&args.scene, "the scene file")])
 }
 
-/// The values of `--integrator`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum IntegratorArg {
-    /// Whitted's recursive ray tracing.
-    Whitted,
-    /// Path tracing.
-    Path,
-}
-
-impl From<IntegratorArg> for Integrator {
-    fn from(a: IntegratorArg) -> Integrator {
-        match a {
-            IntegratorArg::Whitted => Integrator::Whitted,
-            IntegratorArg::Path => Integrator::Path,
-        }
-    }
-}
-
 /// The values of `--accel`.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AccelArg {
@@ -230,7 +212,7 @@ pub fn request(args: &RenderArgs) -> RenderRequest {
         light_samples: args.light_samples,
         hard_shadows: false,
         seed: args.seed,
-        integrator: args.integrator.map(Into::into),
+        integrator: args.integrator,
         smooth: false,
     }
 }

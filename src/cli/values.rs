@@ -2,8 +2,10 @@
 //! the same way everywhere (`invalid value '-1' for '--spp <N>': must be a whole
 //! number from 1 to 4096`), and negative numbers are read as values, not as flags.
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use nffrt::image::region::parse_u32s;
 use nffrt::image::Region;
+use nffrt::scene::IntegratorKind;
 
 /// The one wording of an out-of-range or malformed whole number.
 pub fn whole_number_range(lo: u64, hi: u64) -> String {
@@ -47,6 +49,13 @@ pub fn number_above_zero(s: &str) -> Result<f32, String> {
 
 fn finite(s: &str) -> Option<f32> {
     s.trim().parse::<f32>().ok().filter(|v| v.is_finite())
+}
+
+/// A clap value parser for `--integrator NAME`: the light transports' own names
+/// ([`IntegratorKind::name`]), listed in help and in the error for any other.
+pub fn integrator() -> impl TypedValueParser<Value = IntegratorKind> {
+    PossibleValuesParser::new(IntegratorKind::ALL.map(IntegratorKind::name))
+        .try_map(|name| name.parse::<IntegratorKind>())
 }
 
 /// A clap value parser for `--pixel X,Y`: a column and a row, counted from 0.

@@ -6,7 +6,7 @@ use super::lexer::Token;
 use super::parser::{invalid, loc, parse_f32, Loc, Parser};
 use crate::math::Vec3;
 use crate::scene::{
-    Accel, BoxPrim, Environment, Integrator, Light, LightArea, Mesh, MeshTriangle, MovingSphere, Plane,
+    Accel, BoxPrim, Environment, IntegratorKind, Light, LightArea, Mesh, MeshTriangle, MovingSphere, Plane,
 };
 
 use crate::limits::{AREA_LIGHT_GRID, MAX_SPP};
@@ -312,11 +312,14 @@ impl Parser<'_> {
     /// command line's choice wins).
     pub(super) fn integrator(&mut self, _kw: &Token) -> Result<(), ParseError> {
         let tok = self.lexer.next();
-        self.scene.integrator = Some(match tok.as_ref().map(|t| t.text) {
-            Some(b"whitted") => Integrator::Whitted,
-            Some(b"path") => Integrator::Path,
-            _ => return Err(self.expected(tok, "'whitted' or 'path' after 'integrator'")),
-        });
+        let named = tok
+            .as_ref()
+            .and_then(|t| std::str::from_utf8(t.text).ok()?.parse().ok());
+        let Some(kind) = named else {
+            let what = format!("{} after 'integrator'", IntegratorKind::choices());
+            return Err(self.expected(tok, &what));
+        };
+        self.scene.integrator = Some(kind);
         Ok(())
     }
 
@@ -418,7 +421,7 @@ impl Parser<'_> {
 mod tests {
     use crate::math::Vec3;
     use crate::nff::{parse_format, Format};
-    use crate::scene::{Integrator, Scene};
+    use crate::scene::{IntegratorKind, Scene};
 
     fn p3f(src: &str) -> Scene {
         parse_format(src.as_bytes(), Format::P3f, &Default::default()).unwrap()
@@ -582,11 +585,11 @@ mod tests {
     fn the_integrator_is_whitted_or_path() {
         assert_eq!(
             p3f(&format!("{CAMERA}integrator whitted\n")).integrator,
-            Some(Integrator::Whitted)
+            Some(IntegratorKind::Whitted)
         );
         assert_eq!(
             p3f(&format!("{CAMERA}integrator path\n")).integrator,
-            Some(Integrator::Path)
+            Some(IntegratorKind::Path)
         );
         assert_eq!(p3f(CAMERA).integrator, None);
         let e = p3f_err(&format!("{CAMERA}integrator bdpt\n"));

@@ -18,7 +18,7 @@ pub use request::{image_size, RenderRequest, Resolved};
 use std::fmt;
 
 use crate::limits::DEFAULT_MAX_DEPTH;
-use crate::scene::{Integrator, View};
+use crate::scene::{IntegratorKind, View};
 
 /// How to render. Every field changes the picture.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -44,7 +44,7 @@ pub struct RenderOptions {
     /// deterministic (independent renders to average, or to compare noise with).
     pub seed: u32,
     /// The light transport: Whitted's rules or path tracing.
-    pub integrator: Integrator,
+    pub integrator: IntegratorKind,
     /// False: every surface smooth, whatever its material's roughness (the viewer's
     /// toggle).
     pub roughness: bool,
@@ -63,7 +63,7 @@ impl Default for RenderOptions {
             light_samples: None,
             soft_shadows: true,
             seed: 0,
-            integrator: Integrator::Whitted,
+            integrator: IntegratorKind::Whitted,
             roughness: true,
         }
     }

@@ -6,7 +6,7 @@
 
 use super::{check_settings, RenderOptions, Sampling};
 use crate::limits::{DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
-use crate::scene::{Integrator, SceneInfo};
+use crate::scene::{IntegratorKind, SceneInfo};
 
 /// What a caller asks of a render; `None` leaves a setting to the scene or the
 /// default.
@@ -34,7 +34,7 @@ pub struct RenderRequest {
     /// The sample pattern ([`RenderOptions::seed`]; default 0).
     pub seed: Option<u32>,
     /// The light transport (default: the file's `integrator`, else Whitted's).
-    pub integrator: Option<Integrator>,
+    pub integrator: Option<IntegratorKind>,
     /// Every surface smooth, whatever its material's roughness (the viewer's toggle).
     pub smooth: bool,
 }
@@ -102,7 +102,7 @@ impl RenderRequest {
             }
             (None, None) => 1,
         };
-        let path = self.integrator.or(scene.integrator) == Some(Integrator::Path);
+        let path = self.integrator.or(scene.integrator) == Some(IntegratorKind::Path);
         Ok(match spp {
             // A path draws its every direction from the sample: never a fixed one.
             _ if path => Sampling::Stratified { spp: spp.max(1) },
@@ -117,7 +117,7 @@ impl RenderRequest {
     /// named for a note: path tracing itself, the lens, motion while the shutter is
     /// open, rough mirrors or glass.
     fn effect_needing_samples(&self, scene: &SceneInfo) -> Option<&'static str> {
-        if self.integrator.or(scene.integrator) == Some(Integrator::Path) {
+        if self.integrator.or(scene.integrator) == Some(IntegratorKind::Path) {
             return Some("path tracing");
         }
         let aperture = self.aperture.unwrap_or(scene.view.aperture);

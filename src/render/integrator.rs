@@ -29,7 +29,7 @@ use crate::math::{Ray, Vec3};
 use crate::options::RenderOptions;
 use crate::prepare::Model;
 use crate::prepare::RenderScene;
-use crate::scene::Integrator as Method;
+use crate::scene::IntegratorKind;
 
 use super::sampling::SampleId;
 
@@ -85,13 +85,13 @@ impl<'a> ChosenIntegrator<'a> {
             soft_shadows: opts.soft_shadows,
         };
         match (opts.integrator, scene.lighting().model) {
-            (Method::Path, _) => {
+            (IntegratorKind::Path, _) => {
                 ChosenIntegrator::Path(PathTracer::new(scene, opts.max_depth, opts.roughness))
             }
-            (Method::Whitted, Model::Spd) => {
+            (IntegratorKind::Whitted, Model::Spd) => {
                 ChosenIntegrator::WhittedSpd(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
             }
-            (Method::Whitted, Model::P3f) => {
+            (IntegratorKind::Whitted, Model::P3f) => {
                 ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
             }
         }

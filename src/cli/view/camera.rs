@@ -34,7 +34,7 @@ pub fn request(options: &OptionsMsg) -> RenderRequest {
         aperture: (!options.lens).then_some(0.0),
         hard_shadows: !options.soft_shadows,
         smooth: !options.rough,
-        integrator: Some(options.integrator.into()),
+        integrator: Some(options.integrator),
         ..RenderRequest::default()
     }
 }
@@ -67,10 +67,9 @@ pub fn camera_block(view: &View, dialect: Dialect) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::view::protocol::IntegratorMsg;
     use nffrt::nff::{parse_format, Format, Limits};
     use nffrt::options::Sampling;
-    use nffrt::scene::Integrator;
+    use nffrt::scene::IntegratorKind;
 
     /// A view whose numbers need every digit.
     fn odd_view(base: View) -> View {
@@ -129,7 +128,7 @@ mod tests {
             lens: true,
             soft_shadows: true,
             rough: true,
-            integrator: IntegratorMsg::Whitted,
+            integrator: IntegratorKind::Whitted,
             shutter: [0.0, 1.0],
             accel: nffrt::scene::Accel::Bvh,
         }
@@ -158,16 +157,16 @@ mod tests {
             (r.sampling, r.aperture, r.soft_shadows),
             (Sampling::Stratified { spp: 9 }, Some(0.0), false)
         );
-        assert!(r.roughness && r.integrator == Integrator::Whitted);
+        assert!(r.roughness && r.integrator == IntegratorKind::Whitted);
         let r = request(&OptionsMsg {
             rough: false,
-            integrator: IntegratorMsg::Path,
+            integrator: IntegratorKind::Path,
             ..o
         })
         .resolve(&scene)
         .unwrap()
         .opts;
-        assert!(!r.roughness && r.integrator == Integrator::Path);
+        assert!(!r.roughness && r.integrator == IntegratorKind::Path);
         assert_eq!(prepare_options(&o).shutter, Some([0.0, 1.0]));
     }
 

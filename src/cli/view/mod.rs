@@ -30,8 +30,9 @@ use clap::Args;
 use tokio::sync::broadcast;
 
 use super::limits::SceneLimitArgs;
-use super::render::{AccelArg, IntegratorArg};
+use super::render::AccelArg;
 use super::{interrupt, CliError};
+use nffrt::scene::IntegratorKind;
 use scene::Source;
 use server::App;
 
@@ -56,8 +57,8 @@ pub struct ViewArgs {
     pub spp: Option<u32>,
     /// The light transport the page starts with: `whitted` or `path` (default: the
     /// file's P3F `integrator`, else whitted); the page can switch it.
-    #[arg(long, value_enum, value_name = "NAME")]
-    pub integrator: Option<IntegratorArg>,
+    #[arg(long, value_name = "NAME", value_parser = super::values::integrator())]
+    pub integrator: Option<IntegratorKind>,
     /// The acceleration structure the page starts with: `bvh`, `grid` or `none`
     /// (default: the file's P3F `accel`, else bvh); the page can switch it.
     #[arg(long, value_enum, value_name = "NAME")]
@@ -110,7 +111,7 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
             args.scene.display().to_string()
         },
         spp: args.spp,
-        integrator: args.integrator.map(Into::into),
+        integrator: args.integrator,
         accel: args.accel.map(Into::into),
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,

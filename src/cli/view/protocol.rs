@@ -15,7 +15,7 @@
 use serde::{Deserialize, Serialize};
 
 use nffrt::limits::{DEFAULT_MAX_PIXELS, DEFAULT_SHUTTER, MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
-use nffrt::scene::{Accel, Integrator, View};
+use nffrt::scene::{Accel, IntegratorKind, View};
 
 /// The largest text message accepted; longer ones get an error reply.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
@@ -42,35 +42,6 @@ impl CameraMsg {
             at: view.at.to_array(),
             up: view.up.to_array(),
             angle: view.angle,
-        }
-    }
-}
-
-/// The light transport, as the page names it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum IntegratorMsg {
-    /// Whitted's rules (the file's dialect's).
-    #[default]
-    Whitted,
-    /// Path tracing.
-    Path,
-}
-
-impl From<Integrator> for IntegratorMsg {
-    fn from(i: Integrator) -> IntegratorMsg {
-        match i {
-            Integrator::Whitted => IntegratorMsg::Whitted,
-            Integrator::Path => IntegratorMsg::Path,
-        }
-    }
-}
-
-impl From<IntegratorMsg> for Integrator {
-    fn from(i: IntegratorMsg) -> Integrator {
-        match i {
-            IntegratorMsg::Whitted => Integrator::Whitted,
-            IntegratorMsg::Path => Integrator::Path,
         }
     }
 }
@@ -104,9 +75,9 @@ pub struct OptionsMsg {
     /// surface smooth.
     #[serde(default = "yes")]
     pub rough: bool,
-    /// The light transport (default Whitted's).
+    /// The light transport, by its name (default Whitted's).
     #[serde(default)]
-    pub integrator: IntegratorMsg,
+    pub integrator: IntegratorKind,
     /// When the camera's shutter opens and closes, `[open, close]` (default: 0 to
     /// 1). Moving spheres are bounded over it: a new shutter prepares the scene again.
     #[serde(default = "default_shutter")]
@@ -365,7 +336,7 @@ mod tests {
                 lens: true,
                 soft_shadows: true,
                 rough: true,
-                integrator: IntegratorMsg::Path,
+                integrator: IntegratorKind::Path,
                 shutter: [0.0, 0.5],
                 accel: Accel::Grid,
             },
@@ -403,7 +374,7 @@ mod tests {
             panic!("refused")
         };
         assert!(options.rough);
-        assert_eq!(options.integrator, IntegratorMsg::Whitted);
+        assert_eq!(options.integrator, IntegratorKind::Whitted);
         assert_eq!(options.shutter, [0.0, 1.0]);
         assert_eq!(options.accel, Accel::Bvh);
     }
@@ -520,7 +491,7 @@ mod tests {
                 camera: CameraMsg { from: [v[0], v[1], v[2]], at: [v[3], v[4], v[5]], up: [v[6], v[7], v[8]], angle: v[9] },
                 options: OptionsMsg {
                     width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft, rough,
-                    integrator: if path { IntegratorMsg::Path } else { IntegratorMsg::Whitted }, shutter,
+                    integrator: if path { IntegratorKind::Path } else { IntegratorKind::Whitted }, shutter,
                     accel: Accel::None,
                 },
             };

@@ -41,7 +41,7 @@ pub struct App {
     /// `--spp`, replacing the file's and the default target.
     pub spp: Option<u32>,
     /// `--integrator`, replacing the file's.
-    pub integrator: Option<nffrt::scene::Integrator>,
+    pub integrator: Option<nffrt::scene::IntegratorKind>,
     /// `--accel`: the structure the page starts with (default: the file's).
     pub accel: Option<nffrt::scene::Accel>,
     /// The latest good scene.

@@ -232,7 +232,7 @@ impl Session {
                 lens: true,
                 soft_shadows: true,
                 rough: true,
-                integrator: self.app.integrator.or(info.integrator).unwrap_or_default().into(),
+                integrator: self.app.integrator.or(info.integrator).unwrap_or_default(),
                 shutter: info.shutter,
                 accel: self.app.accel.or(info.accel).unwrap_or(Accel::Bvh),
             },
