@@ -6,7 +6,8 @@
 // What a scene file may make the parser allocate (`nff::Limits`; raised on the
 // command line by `--max-primitives`, `--max-vertices`, `--max-lights`).
 
-/// Default of `nff::Limits::max_primitives` (the same as [`crate::gen::MAX_PRIMITIVES`]).
+/// Default of `nff::Limits::max_primitives`, and the most primitives a generated
+/// scene ([`crate::gen`]) may have.
 pub const DEFAULT_MAX_PRIMITIVES: usize = 10_000_000;
 /// Default of `nff::Limits::max_vertices`.
 pub const DEFAULT_MAX_VERTICES: usize = 40_000_000;

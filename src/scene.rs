@@ -337,8 +337,8 @@ pub struct MeshTriangle {
 
 /// The acceleration structure a render uses: what a P3F file asks for (`accel`),
 /// `--accel`, [`crate::prepare::PrepareOptions::accel`]. All three give the same
-/// pictures (see [`crate::accel::Aggregate`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+/// pictures (see [`crate::accel::Aggregate`]); the BVH is the default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// `accel none`
@@ -346,6 +346,7 @@ pub enum Accel {
     /// `accel grid`
     Grid,
     /// `accel bvh`
+    #[default]
     Bvh,
 }
 

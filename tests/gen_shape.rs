@@ -2,7 +2,8 @@
 //! (formulas worked out from the SPD's descriptions), the geometry each description
 //! promises, and exact round trips through the NFF writer and parser.
 
-use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
+use nffrt::gen::{generate, SpdScene};
+use nffrt::limits::DEFAULT_MAX_PRIMITIVES;
 use nffrt::math::Vec3;
 use nffrt::Scene;
 
@@ -67,8 +68,8 @@ fn primitive_count_predicts_every_generated_scene() {
                 "{which} {size}"
             );
         }
-        assert!(which.primitive_count(which.max_size()) <= MAX_PRIMITIVES);
-        assert!(which.primitive_count(which.max_size() + 1) > MAX_PRIMITIVES);
+        assert!(which.primitive_count(which.max_size()) <= DEFAULT_MAX_PRIMITIVES as u64);
+        assert!(which.primitive_count(which.max_size() + 1) > DEFAULT_MAX_PRIMITIVES as u64);
     }
 }
 

@@ -79,20 +79,21 @@ class Scene:
         width: Optional[int] = None,
         height: Optional[int] = None,
         spp: Optional[int] = None,
-        max_depth: int = 5,
+        max_depth: Optional[int] = None,
         region: Optional[Tuple[int, int, int, int]] = None,
         threads: Optional[int] = None,
         spd: bool = False,
         aperture: Optional[float] = None,
         focal: Optional[float] = None,
         light_samples: Optional[int] = None,
-        seed: int = 0,
+        seed: Optional[int] = None,
         integrator: Optional[str] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
-        linear RGB, the values ``nffrt render -o X.pfm`` writes. ``width``,
-        ``height`` and ``spp`` default to the file's (one side given, the other
-        keeps its aspect); ``region=(x0, y0, x1, y1)`` renders that crop only;
+        linear RGB, the values ``nffrt render -o X.pfm`` writes. An argument left
+        out takes what ``nffrt render`` takes without its flag: ``width``,
+        ``height`` and ``spp`` the file's (one side given, the other keeps its
+        aspect), ``max_depth`` 5; ``region=(x0, y0, x1, y1)`` renders that crop only;
         ``light_samples`` samples every area light on an N x N grid at every hit;
         ``seed`` chooses another, as deterministic, sample pattern (0: the usual
         one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's).

@@ -242,9 +242,10 @@ impl PyScene {
     /// Renders the scene into a new numpy `float32` array of shape `(H, W, 3)`, top
     /// row first: linear RGB, unclamped, the values `nffrt render -o X.pfm` writes.
     ///
-    /// `width`, `height` and `spp` default to the file's (P3F `spp`; NFF: one ray
-    /// through each pixel centre); one side given, the other keeps the file's
-    /// aspect. `spp > 1` is stratified jittered sampling, `spd` the SPD's corner
+    /// Every argument left out takes what `nffrt render` takes without its flag:
+    /// `width`, `height` and `spp` the file's (P3F `spp`; NFF: one ray through each
+    /// pixel centre, 16 samples when an effect needs them); one side given, the
+    /// other keeps the file's aspect; `max_depth` 5. `spp > 1` is stratified jittered sampling, `spd` the SPD's corner
     /// protocol (not with `spp`). `region=(x0, y0, x1, y1)` renders
     /// only that crop (half-open), with exactly the full render's pixels. `threads`
     /// defaults to one per core. `aperture` (lens diameter in pixels) and `focal`
@@ -253,7 +254,7 @@ impl PyScene {
     /// sample pattern (0: the usual one); `integrator` is `"whitted"` or `"path"`
     /// (default: the file's `integrator`, else Whitted's). The GIL is released while rendering;
     /// Ctrl-C stops the render with `KeyboardInterrupt`.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=5, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=0, integrator=None))]
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -261,14 +262,14 @@ impl PyScene {
         width: Option<u32>,
         height: Option<u32>,
         spp: Option<u32>,
-        max_depth: u32,
+        max_depth: Option<u32>,
         region: Option<(u32, u32, u32, u32)>,
         threads: Option<usize>,
         spd: bool,
         aperture: Option<f32>,
         focal: Option<f32>,
         light_samples: Option<u32>,
-        seed: u32,
+        seed: Option<u32>,
         integrator: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let integrator = integrator
@@ -280,11 +281,11 @@ impl PyScene {
             height,
             spp,
             spd,
-            max_depth: Some(max_depth),
+            max_depth,
             aperture,
             focal,
             light_samples,
-            seed: Some(seed),
+            seed,
             integrator,
             ..RenderRequest::default()
         })?;

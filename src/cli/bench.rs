@@ -39,8 +39,8 @@ pub struct BenchArgs {
     /// 24 bytes a ray (BENCHMARKS.md shows how to dump another tracer's rays).
     #[arg(long, value_name = "FILE")]
     pub rays: Option<PathBuf>,
-    /// Worker threads for the timed queries, 1 to 1024.
     #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true,
+          help = format!("Worker threads for the timed queries, 1 to {MAX_THREADS}"),
           value_parser = whole_number::<u32>(1, MAX_THREADS as u64))]
     pub threads: u32,
     /// Timed passes per query, 1 to 1000; the median is reported (and the best, as

@@ -4,8 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use nffrt::gen::{generate, SpdScene, MAX_PRIMITIVES};
+use nffrt::gen::{generate, SpdScene};
 use nffrt::image::ImageFormat;
+use nffrt::limits::DEFAULT_MAX_PRIMITIVES;
 use nffrt::nff::write_nff;
 use nffrt::Scene;
 
@@ -45,7 +46,7 @@ fn parse_size(s: &str) -> Result<u32, String> {
 /// The table of sizes shown after `nffrt gen --help`.
 fn size_table() -> String {
     let mut t = String::from("Sizes (as in the SPD; the limit keeps every scene within ");
-    t.push_str(&format!("{MAX_PRIMITIVES} primitives):\n"));
+    t.push_str(&format!("{DEFAULT_MAX_PRIMITIVES} primitives):\n"));
     for s in SpdScene::ALL {
         t.push_str(&format!(
             "  {:<7} {:<42} default {:>2}, at most {:>3}\n",

@@ -150,7 +150,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             scene: loaded.name.clone(),
             dialect: s.dialect.name(),
             camera: CameraJson::of(&s.view),
-            accel: s.accel.unwrap_or(Accel::Bvh),
+            accel: s.accel.unwrap_or_default(),
             kernels: nffrt::accel::simd::level().name(),
             spp: s.spp,
             integrator: s.integrator,

@@ -18,7 +18,9 @@ use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
-use nffrt::limits::{DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS};
+use nffrt::limits::{
+    DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS,
+};
 use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::{region_eye_rows, render_region, RenderError};
@@ -36,32 +38,34 @@ pub struct RenderArgs {
     /// (a tile never takes the full picture's name).
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Image width, 1 to 32768 (default: the scene's). Given alone, the height follows
-    /// the scene's aspect ratio; with --height, both are exact.
     #[arg(long, value_name = "N", allow_negative_numbers = true,
+          help = format!("Image width, 1 to {MAX_RESOLUTION} (default: the scene's). Given alone, the height \
+                          follows the scene's aspect ratio; with --height, both are exact"),
           value_parser = whole_number::<u32>(1, MAX_RESOLUTION as u64))]
     pub width: Option<u32>,
-    /// Image height, 1 to 32768 (default: the scene's). Given alone, the width follows
-    /// the scene's aspect ratio; with --width, both are exact.
     #[arg(long, value_name = "N", allow_negative_numbers = true,
+          help = format!("Image height, 1 to {MAX_RESOLUTION} (default: the scene's). Given alone, the width \
+                          follows the scene's aspect ratio; with --width, both are exact"),
           value_parser = whole_number::<u32>(1, MAX_RESOLUTION as u64))]
     pub height: Option<u32>,
-    /// Maximum ray-tree depth, 1 to 64; the eye ray is depth 1.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH, allow_negative_numbers = true,
+          help = format!("Maximum ray-tree depth, 1 to {MAX_DEPTH}; the eye ray is depth 1"),
           value_parser = whole_number::<u32>(1, MAX_DEPTH as u64))]
     pub max_depth: u32,
-    /// Worker threads for parsing (files of 1 MiB or more), building and rendering,
-    /// 1 to 1024 (default: one per core).
     #[arg(long, value_name = "N", allow_negative_numbers = true,
+          help = format!("Worker threads for parsing (files of 1 MiB or more), building and rendering, \
+                          1 to {MAX_THREADS} (default: one per core)"),
           value_parser = whole_number::<u32>(1, MAX_THREADS as u64))]
     pub threads: Option<u32>,
     /// SPD benchmark protocol: rays through the (w+1) x (h+1) pixel corners, the four
     /// corners averaged into each pixel.
     #[arg(long)]
     pub spd: bool,
-    /// Samples per pixel, 1 to 4096: stratified jittered supersampling, box-filtered,
-    /// the same image on every run and thread count (1: pixel centres).
     #[arg(long, value_name = "N", conflicts_with = "spd", allow_negative_numbers = true,
+          help = format!("Samples per pixel, 1 to {MAX_SPP}: stratified jittered supersampling, \
+                          box-filtered, the same image on every run and thread count (1: pixel centres). \
+                          Default: the file's P3F `spp`, else 1, or {DEFAULT_EFFECT_SPP} when an effect \
+                          needs samples (a lens, motion, roughness, path tracing)"),
           value_parser = whole_number::<u32>(1, MAX_SPP as u64))]
     pub spp: Option<u32>,
     /// Lens diameter in pixels of the view plane (depth of field; 0 is a pinhole).
@@ -74,10 +78,10 @@ pub struct RenderArgs {
     #[arg(long, value_name = "RATIO", allow_negative_numbers = true,
           value_parser = values::number_above_zero)]
     pub focal: Option<f32>,
-    /// Sample every area light on an N x N grid at every hit, whatever the sampling
-    /// (default: the light's own grid with one sample per pixel, one point per
-    /// sample with more); 1 to 64.
     #[arg(long, value_name = "N", allow_negative_numbers = true,
+          help = format!("Sample every area light on an N x N grid at every hit, whatever the sampling \
+                          (default: the light's own grid with one sample per pixel, one point per sample \
+                          with more); 1 to {MAX_LIGHT_SAMPLES}"),
           value_parser = whole_number::<u32>(1, MAX_LIGHT_SAMPLES as u64))]
     pub light_samples: Option<u32>,
     /// The sample pattern, 0 to 4294967295: 0 (the default) gives nffrt's usual

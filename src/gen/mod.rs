@@ -1,6 +1,6 @@
 //! Built-in generators for the seven classic scenes of Eric Haines' Standard
 //! Procedural Databases (SPD 3.14): `balls`, `gears`, `mount`, `rings`, `teapot`,
-//! `tetra` and `tree`, at every size that keeps a scene within [`MAX_PRIMITIVES`].
+//! `tetra` and `tree`, at every size that keeps a scene within [`DEFAULT_MAX_PRIMITIVES`].
 //!
 //! Each generator follows the published description of the SPD's algorithm and
 //! makes the same scene as the SPD program: the same camera, lights, background and
@@ -15,7 +15,7 @@
 //! displaced by a hash of their position.
 //!
 //! The size factor means what it means in the SPD, and the SPD's default sizes are
-//! ours. Sizes are limited so that no scene has more than [`MAX_PRIMITIVES`]
+//! ours. Sizes are limited so that no scene has more than [`DEFAULT_MAX_PRIMITIVES`]
 //! primitives.
 //!
 //! ```
@@ -36,11 +36,8 @@ mod teapot_data;
 mod tetra;
 mod tree;
 
+use crate::limits::DEFAULT_MAX_PRIMITIVES;
 use crate::scene::Scene;
-
-/// The most primitives a generated scene may have (about 1 GB of memory and a few
-/// GB of NFF text at the top).
-pub const MAX_PRIMITIVES: u64 = 10_000_000;
 
 /// One of the seven classic SPD scenes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -82,7 +79,7 @@ fn size_range_words(scene: SpdScene, size: u32) -> String {
     let mut words = format!("must be a whole number from 1 to {max} for {name}");
     if size > max {
         words.push_str(&format!(
-            " (size {} would already make {} primitives, over the limit of {MAX_PRIMITIVES})",
+            " (size {} would already make {} primitives, over the limit of {DEFAULT_MAX_PRIMITIVES})",
             max + 1,
             scene.primitive_count(max + 1)
         ));
@@ -169,10 +166,10 @@ impl SpdScene {
         u64::try_from(count).unwrap_or(u64::MAX)
     }
 
-    /// The largest size whose scene stays within [`MAX_PRIMITIVES`].
+    /// The largest size whose scene stays within [`DEFAULT_MAX_PRIMITIVES`].
     pub fn max_size(self) -> u32 {
         let mut size = 1;
-        while self.primitive_count(size + 1) <= MAX_PRIMITIVES {
+        while self.primitive_count(size + 1) <= DEFAULT_MAX_PRIMITIVES as u64 {
             size += 1;
         }
         size

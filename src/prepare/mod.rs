@@ -71,10 +71,7 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
     drop(scene);
     let moving = info.has_moving_spheres();
     let lighting = Lighting::new(&info);
-    let accel = Aggregate::new(
-        Bvh::new(geometry),
-        opts.accel.or(info.accel).unwrap_or(Accel::Bvh),
-    );
+    let accel = Aggregate::new(Bvh::new(geometry), opts.accel.or(info.accel).unwrap_or_default());
     RenderScene {
         emitters: Emitters::new(&lighting.lights, accel.bvh(), &info.materials),
         lighting,

@@ -6,7 +6,7 @@ use nffrt::image::Region;
 use nffrt::math::Vec3;
 use nffrt::options::{check_render, RenderLimits, RenderOptions, RenderRequest};
 use nffrt::prepare::PrepareOptions;
-use nffrt::scene::{Dialect, SceneInfo, View};
+use nffrt::scene::{Accel, Dialect, IntegratorKind, SceneInfo, View};
 
 /// The scene's view moved to `camera` (the lens, hither and angle span stay the
 /// file's), at the requested resolution.
@@ -49,6 +49,41 @@ pub fn options_of(options: &OptionsMsg, scene: &SceneInfo) -> Result<RenderOptio
     Ok(opts)
 }
 
+/// The settings a page starts with on `scene`: what `nffrt render --spp SPP
+/// --integrator INTEGRATOR` renders (the file's size, samples and integrator
+/// unless the command line says, the same defaults), every effect on, the file's
+/// shutter, and `accel` or the file's structure.
+pub fn first_options(
+    scene: &SceneInfo,
+    spp: Option<u32>,
+    integrator: Option<IntegratorKind>,
+    accel: Option<Accel>,
+) -> OptionsMsg {
+    let request = RenderRequest {
+        spp,
+        integrator,
+        ..RenderRequest::default()
+    };
+    // A file's settings are within the limits, so this resolves; should it not,
+    // the file's size with the defaults is where the page starts.
+    let opts = request
+        .resolve(scene)
+        .map(|r| r.opts)
+        .unwrap_or_else(|_| RenderOptions::from_view(&scene.view));
+    OptionsMsg {
+        width: opts.width,
+        height: opts.height,
+        max_depth: opts.max_depth,
+        spp: opts.sampling.samples_per_pixel(),
+        lens: true,
+        soft_shadows: true,
+        rough: true,
+        integrator: opts.integrator,
+        shutter: scene.shutter,
+        accel: accel.or(scene.accel).unwrap_or_default(),
+    }
+}
+
 /// What the page's settings ask of the render-time scene.
 pub fn prepare_options(options: &OptionsMsg) -> PrepareOptions {
     PrepareOptions {
@@ -69,7 +104,6 @@ mod tests {
     use super::*;
     use nffrt::nff::{parse_format, Format, Limits};
     use nffrt::options::Sampling;
-    use nffrt::scene::IntegratorKind;
 
     /// A view whose numbers need every digit.
     fn odd_view(base: View) -> View {
@@ -168,6 +202,52 @@ mod tests {
         .opts;
         assert!(!r.roughness && r.integrator == IntegratorKind::Path);
         assert_eq!(prepare_options(&o).shutter, Some([0.0, 1.0]));
+    }
+
+    /// The page starts where `nffrt render` would: the file's samples, one without
+    /// an effect that needs more, the effect default with one, and what the command
+    /// line asks.
+    #[test]
+    fn the_first_settings_are_the_render_commands() {
+        let parse = |text: &str, format| {
+            parse_format(text.as_bytes(), format, &Limits::default())
+                .unwrap()
+                .info()
+        };
+        let nff = parse(
+            "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 6\ns 0 0 0 1\n",
+            Format::Nff,
+        );
+        let first = first_options(&nff, None, None, None);
+        assert_eq!(
+            (first.width, first.height, first.spp, first.max_depth),
+            (8, 6, 1, 5)
+        );
+        assert_eq!(
+            (first.integrator, first.accel),
+            (IntegratorKind::Whitted, Accel::Bvh)
+        );
+        let asked = first_options(&nff, Some(9), Some(IntegratorKind::Path), Some(Accel::Grid));
+        assert_eq!(
+            (asked.spp, asked.integrator, asked.accel),
+            (9, IntegratorKind::Path, Accel::Grid)
+        );
+        // Path tracing needs samples: the command line's default for it.
+        assert_eq!(
+            first_options(&nff, None, Some(IntegratorKind::Path), None).spp,
+            16
+        );
+        let p3f = parse(
+            "spp 9\naccel grid\ncamera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\ns 0 0 0 1\n",
+            Format::P3f,
+        );
+        let first = first_options(&p3f, None, None, None);
+        assert_eq!((first.spp, first.accel), (9, Accel::Grid));
+        let lens = parse(
+            "camera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8 aperture 2 focal 1\ns 0 0 0 1\n",
+            Format::P3f,
+        );
+        assert_eq!(first_options(&lens, None, None, None).spp, 16);
     }
 
     /// The page's settings out of range are refused by the renderer's own checks,

@@ -52,7 +52,8 @@ pub struct ViewArgs {
     /// Do not open a browser.
     #[arg(long)]
     pub no_open: bool,
-    /// Samples per pixel to converge to (default: the file's `spp`, else 16).
+    /// Samples per pixel to converge to (default: what `nffrt render` takes: the
+    /// file's `spp`, else 1, or 16 when an effect needs samples).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=nffrt::limits::MAX_SPP as i64))]
     pub spp: Option<u32>,
     /// The light transport the page starts with: `whitted` or `path` (default: the

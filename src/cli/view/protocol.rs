@@ -84,12 +84,8 @@ pub struct OptionsMsg {
     pub shutter: [f32; 2],
     /// The acceleration structure (default: the BVH). The picture is the same with
     /// each; a new one prepares the scene again.
-    #[serde(default = "default_accel")]
+    #[serde(default)]
     pub accel: Accel,
-}
-
-fn default_accel() -> Accel {
-    Accel::Bvh
 }
 
 /// A message from the page.

@@ -13,7 +13,7 @@ use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket};
 use tokio::sync::{broadcast, watch};
 
-use super::camera::{camera_block, options_of, prepare_options, view_of};
+use super::camera::{camera_block, first_options, options_of, prepare_options, view_of};
 use super::protocol::{
     encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
 };
@@ -23,7 +23,7 @@ use super::worker::{Frame, Job, Worker};
 use nffrt::geometry::SourceKind;
 use nffrt::image::{encode_png, SOFTWARE_TEXT};
 use nffrt::render::debug::{kind_name, trace_pixel};
-use nffrt::scene::{Accel, AngleSpan, Dialect};
+use nffrt::scene::{AngleSpan, Dialect};
 
 /// The largest ray-tree reply, in bytes of JSON.
 const MAX_TREE_BYTES: usize = 8 << 20;
@@ -212,11 +212,6 @@ impl Session {
         let l = &self.loaded;
         let info = l.scene.info();
         let view = &info.view;
-        let spp = self
-            .app
-            .spp
-            .or(info.spp.filter(|&n| n > 0))
-            .unwrap_or(nffrt::limits::DEFAULT_EFFECT_SPP);
         ServerMessage::Scene {
             name: self.app.name.clone(),
             dialect: info.dialect.name(),
@@ -224,18 +219,7 @@ impl Session {
             counts: l.counts.clone(),
             warnings: l.warnings.clone(),
             camera: CameraMsg::of(view),
-            options: OptionsMsg {
-                width: view.width,
-                height: view.height,
-                max_depth: nffrt::limits::DEFAULT_MAX_DEPTH,
-                spp: spp.min(nffrt::limits::MAX_SPP),
-                lens: true,
-                soft_shadows: true,
-                rough: true,
-                integrator: self.app.integrator.or(info.integrator).unwrap_or_default(),
-                shutter: info.shutter,
-                accel: self.app.accel.or(info.accel).unwrap_or(Accel::Bvh),
-            },
+            options: first_options(info, self.app.spp, self.app.integrator, self.app.accel),
             has_lens: view.aperture > 0.0,
             has_area_lights: info.area_lights() > 0,
             has_roughness: info.has_rough_materials(),
