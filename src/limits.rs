@@ -28,7 +28,7 @@ pub const MAX_RESOLUTION: u32 = 32768;
 pub const MAX_SPP: u32 = 4096;
 /// The deepest ray tree (the eye ray is depth 1): the recursion stays far from the
 /// stack limit of rayon's worker threads.
-pub const MAX_DEPTH: u32 = 64;
+pub const MAX_RAY_DEPTH: u32 = 64;
 /// The largest area-light grid side (`--light-samples`).
 pub const MAX_LIGHT_SAMPLES: u32 = 64;
 /// The most eye-ray grid points (`options::eye_grid_points`) a render may have

@@ -198,7 +198,7 @@ fn help_says_limits_in_words_and_names_values_alike() {
             "<RANDOM>",
             "<SEED>",
             "<SIZE>",
-            "<MAX_DEPTH>",
+            "<MAX_RAY_DEPTH>",
             "<OUTPUT>",
         ] {
             assert!(!text.contains(odd), "{sub} --help names a value {odd}");

@@ -7,7 +7,7 @@ use nffrt::math::{Ray, Vec3};
 use nffrt::nff::{parse_format, Format};
 use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare;
-use nffrt::render::{render, Camera, CameraSample, Frame, NoRecord, SampleId, TraceContext};
+use nffrt::render::{render, Camera, CameraSample, NoRecord, RowTracer, SampleId, TraceContext};
 use nffrt::Scene;
 
 fn p3f(src: &str) -> Scene {
@@ -95,7 +95,7 @@ fn the_penumbra_of_a_straight_edge_matches_the_visible_fraction_of_a_quad_light(
         sampling: Sampling::Stratified { spp: n },
         ..RenderOptions::from_view(scene.view())
     };
-    let frame = Frame::new(&scene, scene.view(), &opts);
+    let frame = RowTracer::new(&scene, scene.view(), &opts);
     for (k, x) in [-1.5f32, -0.6, -0.25, 0.0, 0.3, 0.75, 1.4]
         .into_iter()
         .enumerate()

@@ -81,14 +81,9 @@ fn an_explicit_single_sample_takes_one_jittered_lens_sample() {
 
 #[test]
 fn the_course_dof_scene_without_spp_renders_its_blur() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/p3f/2019/dof.p3f");
-    if !path.exists() {
-        eprintln!(
-            "note: {} is absent; the course scene check is skipped",
-            path.display()
-        );
+    let Some(path) = common::skip::shared("scenes/p3f/2019/dof.p3f") else {
         return;
-    }
+    };
     let dir = scratch_dir("effects", "dof");
     let out = dir.join("dof.png");
     let run = nffrt(

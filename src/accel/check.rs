@@ -11,9 +11,6 @@ use crate::geometry::Hit;
 use crate::geometry::{ConeShape, Shape};
 use crate::math::{Aabb, Ray, Vec3};
 
-/// Depth limit of the wide tree (the builder stays well below it).
-const MAX_DEPTH: usize = 64;
-
 /// Shape statistics of a built BVH: of the 8-wide tree the queries traverse (the
 /// binary tree it is collapsed from is not kept), for `info --bvh` and benchmarks.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
@@ -100,7 +97,7 @@ impl Bvh {
     /// box (or its piece's) inside the lane's, depth within the traversal stack.
     /// Returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
-        if self.depth as usize >= MAX_DEPTH {
+        if self.depth > sah::MAX_TREE_DEPTH {
             return Err(format!("depth {} exceeds the stack", self.depth));
         }
         // The wide leaves' blocks name each copy by its first one: count per name.

@@ -19,7 +19,8 @@ use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
 use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
 use nffrt::limits::{
-    DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP, MAX_THREADS,
+    DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RAY_DEPTH, MAX_RESOLUTION, MAX_SPP,
+    MAX_THREADS,
 };
 use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
@@ -49,8 +50,8 @@ pub struct RenderArgs {
           value_parser = whole_number::<u32>(1, MAX_RESOLUTION as u64))]
     pub height: Option<u32>,
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH, allow_negative_numbers = true,
-          help = format!("Maximum ray-tree depth, 1 to {MAX_DEPTH}; the eye ray is depth 1"),
-          value_parser = whole_number::<u32>(1, MAX_DEPTH as u64))]
+          help = format!("Maximum ray-tree depth, 1 to {MAX_RAY_DEPTH}; the eye ray is depth 1"),
+          value_parser = whole_number::<u32>(1, MAX_RAY_DEPTH as u64))]
     pub max_depth: u32,
     #[arg(long, value_name = "N", allow_negative_numbers = true,
           help = format!("Worker threads for parsing (files of 1 MiB or more), building and rendering, \

@@ -8,7 +8,7 @@ use thiserror::Error;
 
 use super::{RenderOptions, Sampling};
 use crate::image::Region;
-use crate::limits::{DEFAULT_MAX_PIXELS, MAX_DEPTH, MAX_LIGHT_SAMPLES, MAX_RESOLUTION, MAX_SPP};
+use crate::limits::{DEFAULT_MAX_PIXELS, MAX_LIGHT_SAMPLES, MAX_RAY_DEPTH, MAX_RESOLUTION, MAX_SPP};
 
 /// What one render may take on, as its caller allows: the most eye-ray grid points
 /// ([`eye_grid_points`]) of the region rendered. `--max-pixels` on the command line
@@ -62,7 +62,7 @@ pub fn eye_grid_points(width: u32, height: u32, sampling: Sampling) -> u64 {
 }
 
 /// Checks that `opts` can be rendered within [`crate::limits`]: a size of 1 to
-/// [`MAX_RESOLUTION`] per side, a depth of 1 to [`MAX_DEPTH`], 1 to [`MAX_SPP`]
+/// [`MAX_RESOLUTION`] per side, a depth of 1 to [`MAX_RAY_DEPTH`], 1 to [`MAX_SPP`]
 /// samples, a finite lens (aperture at least 0, focal distance above 0), 1 to
 /// [`MAX_LIGHT_SAMPLES`] light samples.
 pub fn check_settings(opts: &RenderOptions) -> Result<(), String> {
@@ -72,9 +72,9 @@ pub fn check_settings(opts: &RenderOptions) -> Result<(), String> {
             "a {w}x{h} image: width and height go from 1 to {MAX_RESOLUTION}"
         ));
     }
-    if !(1..=MAX_DEPTH).contains(&opts.max_depth) {
+    if !(1..=MAX_RAY_DEPTH).contains(&opts.max_depth) {
         return Err(format!(
-            "max depth {} is not between 1 and {MAX_DEPTH}",
+            "max depth {} is not between 1 and {MAX_RAY_DEPTH}",
             opts.max_depth
         ));
     }

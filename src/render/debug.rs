@@ -11,7 +11,7 @@ use std::fmt;
 
 use super::integrator::{AreaOutcome, HitRecord, LightOutcome, PathEvent, Recorder, TraceContext};
 use super::path_log::{write_path, PathStep};
-use super::{spd_mean, Branch, CameraSample, Frame, RenderError, SampleId, Stats};
+use super::{spd_mean, Branch, CameraSample, RenderError, RowTracer, SampleId, Stats};
 use crate::geometry::SourceKind;
 use crate::image::skybox::SkyTexel;
 use crate::image::{quantize, Region};
@@ -252,7 +252,7 @@ pub fn trace_pixel(
         y1: y.saturating_add(1),
     };
     check_render(opts, &pixel, &RenderLimits::default())?;
-    let frame = Frame::new(scene, view, opts);
+    let frame = RowTracer::new(scene, view, opts);
     let mut ctx = TraceContext::default();
     let mut samples = Vec::new();
     let mut trace_at = |sample: CameraSample, id: SampleId| {

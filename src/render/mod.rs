@@ -38,7 +38,7 @@ pub use integrator::{
 pub use light::LightSampling;
 pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
-pub use rows::Frame;
+pub use rows::RowTracer;
 pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
 pub use shade::{Branch, Facets, P3fRules, Rules, SpdRules};
 pub use stats::Stats;
@@ -98,7 +98,7 @@ fn trace_region(
         opts.width,
         opts.height
     );
-    let frame = Frame::new(scene, view, opts);
+    let frame = RowTracer::new(scene, view, opts);
     let (x0, y0) = (region.x0, region.y0);
     let (w, h) = (region.width() as usize, region.height() as usize);
     let (pixels, stats) = match opts.sampling {

@@ -9,12 +9,12 @@
 //! over the first `k` of the pixel's `N` samples ([`super::PixelSampler::sample`]: the
 //! pattern of the final sample count from the start), added in sample order: the
 //! very products, in the very order, that a render adds: both go through the one
-//! sample loop ([`super::Frame::add_samples`]), eye rays in packets. After the last
+//! sample loop ([`super::RowTracer::add_samples`]), eye rays in packets. After the last
 //! pass it therefore holds the rendered pixels bit for bit, however the samples were
 //! split into passes; before that, [`Accumulator::image`] shows the sum scaled by
 //! `N / k`.
 
-use super::rows::{each_row, Frame};
+use super::rows::{each_row, RowTracer};
 use super::{Observer, RenderError, Stats};
 use crate::image::{Image, Region};
 use crate::math::Vec3;
@@ -44,7 +44,7 @@ pub fn render_preview(
     let stride = stride.max(1);
     let (w, h) = (opts.width.div_ceil(stride), opts.height.div_ceil(stride));
     let full = |i: u32, size: u32| (i * stride + stride / 2).min(size - 1);
-    let frame = Frame::new(scene, view, opts).centres();
+    let frame = RowTracer::new(scene, view, opts).centres();
     let xs: Vec<u32> = (0..w).map(|i| full(i, opts.width)).collect();
     let mut pixels = vec![Vec3::ZERO; w as usize * h as usize];
     let stats = each_row(&mut pixels, w as usize, observer, |j, row, ctx| {
@@ -122,7 +122,7 @@ impl Accumulator {
         }
         let n = self.samples_per_pixel();
         let (first, end) = (self.done, (self.done + count).min(n));
-        let frame = Frame::new(scene, &self.view, &self.opts);
+        let frame = RowTracer::new(scene, &self.view, &self.opts);
         let weight = 1.0 / n as f32;
         let scale = n as f32 / end.max(1) as f32;
         let xs: Vec<u32> = (0..self.opts.width).collect();
@@ -244,7 +244,7 @@ mod tests {
         assert_eq!(acc.samples_done(), 1);
         assert_eq!(rows.image(12, 9), acc.image());
         // One sample of four, weighted 1/4 and shown times 4: the sample itself.
-        let frame = Frame::new(&scene, scene.view(), &opts);
+        let frame = RowTracer::new(&scene, scene.view(), &opts);
         let (sample, id) = frame.sampler().sample(5, 4, 0);
         let one = frame.sample_radiance(&sample, &id, &mut TraceContext::default(), &mut NoRecord);
         assert!((acc.image().get(5, 4) - one).length() < 1e-5);

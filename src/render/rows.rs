@@ -1,6 +1,6 @@
 //! The one sample loop. Every picture nffrt makes — a full render, a tile, a
 //! progressive pass of the viewer, a preview, a Python call — is rows of pixels,
-//! each adding a range of its samples into its sums through [`Frame::add_samples`]:
+//! each adding a range of its samples into its sums through [`RowTracer::add_samples`]:
 //! sample `k` of every pixel of the row is taken together, its eye rays made in
 //! blocks by the camera and traced through the acceleration structure in packets,
 //! then handed to the integrator. So the viewer renders as fast per sample as
@@ -24,20 +24,20 @@ use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
 use crate::scene::View;
 
-/// What every row of one picture shares: the scene, the camera, the samples'
-/// pattern and the integrator.
-pub struct Frame<'a> {
+/// The tracer of one picture's rows, holding what they share: the scene, the
+/// camera, the samples' pattern and the integrator.
+pub struct RowTracer<'a> {
     scene: &'a RenderScene,
     camera: Camera,
     sampler: PixelSampler,
     integrator: ChosenIntegrator<'a>,
 }
 
-impl<'a> Frame<'a> {
+impl<'a> RowTracer<'a> {
     /// The frame of a render of `scene` seen by `view` with `opts`.
     pub fn new(scene: &'a RenderScene, view: &View, opts: &RenderOptions) -> Self {
         let camera = Camera::new(view, opts).with_shutter(scene.shutter());
-        Frame {
+        RowTracer {
             sampler: opts
                 .sampling
                 .pixel_sampler(camera.has_lens(), scene.has_motion(), opts.seed),
@@ -147,7 +147,7 @@ impl<'a> Frame<'a> {
     }
 
     /// The radiance of one eye sample, reported to `rec` (`--pixel`): the ray of
-    /// `sample` traced alone, as [`Frame::add_samples`] traces it in a packet.
+    /// `sample` traced alone, as [`RowTracer::add_samples`] traces it in a packet.
     pub fn sample_radiance<R: Recorder>(
         &self,
         sample: &CameraSample,

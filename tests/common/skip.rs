@@ -6,7 +6,9 @@
 //! Most skips are for `../shared` (the SPD and course scenes, reference pictures and
 //! specs kept beside the checkout, not in it): [`shared`] finds a file there or skips.
 //! With `NFFRT_REQUIRE_SHARED=1` (`.ci/run` sets it) such a skip is a failure
-//! instead, so that a check CI expects to run cannot pass by not running.
+//! instead, so that a check CI expects to run cannot pass by not running; other
+//! skips CI must not take go through [`skip_unless_required`] with a variable of
+//! their own (`NFFRT_REQUIRE_AVX2` for the AVX2 kernels' bit-equality tests).
 //!
 //! Included by `tests/common` and, for the unit tests, by `src/lib.rs`.
 
@@ -60,16 +62,23 @@ pub fn shared(relative: &str) -> Option<PathBuf> {
     if path.exists() {
         return Some(path);
     }
-    if std::env::var("NFFRT_REQUIRE_SHARED").as_deref() == Ok("1") {
-        panic!(
-            "NFFRT_REQUIRE_SHARED=1 but {} is absent: this check must run",
-            path.display()
-        );
-    }
     if root.is_dir() {
-        skip(&format!("{relative} is absent from ../shared"));
+        skip_unless_required(
+            "NFFRT_REQUIRE_SHARED",
+            &format!("{relative} is absent from ../shared"),
+        );
     } else {
-        skip(SHARED_ABSENT);
+        skip_unless_required("NFFRT_REQUIRE_SHARED", SHARED_ABSENT);
     }
     None
+}
+
+/// [`skip`] for `reason`, or, when the environment variable `var` is `1` (`.ci/run`
+/// sets the ones CI needs), a panic: a check CI expects to run must not pass by not
+/// running.
+pub fn skip_unless_required(var: &str, reason: &str) {
+    if std::env::var(var).as_deref() == Ok("1") {
+        panic!("{var}=1 but {reason}: this check must run");
+    }
+    skip(reason);
 }

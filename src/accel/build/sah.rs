@@ -36,7 +36,7 @@ const MAX_SAH_DEPTH: u32 = 32;
 /// The deepest a tree can be (root = 1): past [`MAX_SAH_DEPTH`] every split halves
 /// its primitives (fewer than 2^32) until one is left. Fixed-size traversal stacks
 /// are sized from it.
-pub const MAX_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
+pub const MAX_TREE_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
 /// Subtrees over this many primitives are split between threads.
 pub const PARALLEL_ITEMS: usize = 4096;
 /// Nodes over this many times [`PARALLEL_ITEMS`] primitives, and over the share of
@@ -214,7 +214,7 @@ pub fn build_with_kinds(
         );
     }
     let order = items.iter().map(Item::index).collect();
-    debug_assert!(depth <= MAX_DEPTH);
+    debug_assert!(depth <= MAX_TREE_DEPTH);
     Built { nodes, order, depth }
 }
 

@@ -471,7 +471,10 @@ mod tests {
     #[test]
     fn avx_slab_test_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip_unless_required(
+                "NFFRT_REQUIRE_AVX2",
+                "this CPU has no AVX2 (or NFFRT_SIMD=portable)",
+            );
             return;
         };
         // Seven boxes and an empty lane.
@@ -522,7 +525,10 @@ mod tests {
     fn packet_box_tests_agree_with_the_single_ray_test() {
         use crate::accel::traverse::octant::{Octants, PacketBoxes};
         let Some(avx) = Avx::detect() else {
-            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip_unless_required(
+                "NFFRT_REQUIRE_AVX2",
+                "this CPU has no AVX2 (or NFFRT_SIMD=portable)",
+            );
             return;
         };
         let mut rnd = crate::accel::tests::uniform(0x2545_f491);
@@ -597,7 +603,10 @@ mod tests {
     #[test]
     fn avx_hits8_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip_unless_required(
+                "NFFRT_REQUIRE_AVX2",
+                "this CPU has no AVX2 (or NFFRT_SIMD=portable)",
+            );
             return;
         };
         let (block, _, packets) = crate::accel::leaf::ray8::tests::cases();
@@ -620,7 +629,10 @@ mod tests {
     #[test]
     fn avx_pair_equals_the_portable_one_bit_for_bit() {
         let Some(avx) = Avx::detect() else {
-            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip_unless_required(
+                "NFFRT_REQUIRE_AVX2",
+                "this CPU has no AVX2 (or NFFRT_SIMD=portable)",
+            );
             return;
         };
         let (first, tris, packets) = crate::accel::leaf::ray8::tests::cases();
@@ -649,7 +661,10 @@ mod tests {
     #[test]
     fn avx_recomputes_zero_edge_functions_as_the_portable_kernels_do() {
         let Some(avx) = Avx::detect() else {
-            crate::test_skip::skip("this CPU has no AVX2 (or NFFRT_SIMD=portable)");
+            crate::test_skip::skip_unless_required(
+                "NFFRT_REQUIRE_AVX2",
+                "this CPU has no AVX2 (or NFFRT_SIMD=portable)",
+            );
             return;
         };
         let (ray, hit, missed) = crate::geometry::triangle::tests::split_by_a_near_edge();

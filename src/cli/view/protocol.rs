@@ -14,7 +14,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use nffrt::limits::{DEFAULT_MAX_PIXELS, DEFAULT_SHUTTER, MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
+use nffrt::limits::{DEFAULT_MAX_PIXELS, DEFAULT_SHUTTER, MAX_RAY_DEPTH, MAX_RESOLUTION, MAX_SPP};
 use nffrt::scene::{Accel, IntegratorKind, View};
 
 /// The largest text message accepted; longer ones get an error reply.
@@ -129,7 +129,7 @@ impl LimitsMsg {
     pub const NFFRT: LimitsMsg = LimitsMsg {
         max_side: MAX_RESOLUTION,
         max_pixels: DEFAULT_MAX_PIXELS,
-        max_depth: MAX_DEPTH,
+        max_depth: MAX_RAY_DEPTH,
         max_spp: MAX_SPP,
     };
 }
