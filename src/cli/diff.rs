@@ -11,7 +11,7 @@ use serde_json::json;
 
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::output::{refuse_overwriting, Named};
-use super::{exit, CliError};
+use super::{exit, interrupt, CliError};
 use nffrt::compare::flip::default_ppd;
 use nffrt::compare::{compare, CompareError, Comparison, Metric, Picture, ReadError};
 use nffrt::image::{Encoding, ImageFormat, SOFTWARE_TEXT};
@@ -93,8 +93,14 @@ pub fn run(args: DiffArgs) -> Result<(), CliError> {
     let reference_picture = read(reference)?;
     let mut measured = Vec::with_capacity(tests.len());
     for test in tests {
-        let comparison = compare(&read(test)?, &reference_picture, args.metric)
+        // Ctrl-C stops a batch between two pictures (exit 130).
+        interrupt::check()?;
+        let mut comparison = compare(&read(test)?, &reference_picture, args.metric)
             .map_err(|e| comparison_error(e, test, reference))?;
+        if output.is_none() {
+            // A batch keeps each picture's value, not its map.
+            comparison.map = Vec::new();
+        }
         measured.push(Measured {
             test: test.clone(),
             comparison,

@@ -83,6 +83,7 @@ impl Metric {
 pub fn pixel_error(metric: Metric, v: [f32; 3], r: [f32; 3]) -> f32 {
     let per_channel = |f: fn(f32, f32) -> f32| (f(v[0], r[0]) + f(v[1], r[1]) + f(v[2], r[2])) / 3.0;
     match metric {
+        // (FLIP has its own map; asked here, it gets the squared error.)
         Metric::Mse | Metric::Rmse | Metric::Psnr | Metric::Flip => per_channel(|v, r| (v - r) * (v - r)),
         // pbrt-v4's MRSE: (v - r)² / (r + 0.01)².
         Metric::Relmse => per_channel(|v, r| (v - r) * (v - r) / ((r + 0.01) * (r + 0.01))),
