@@ -4,7 +4,8 @@
 #   1. cargo test --profile test-release (the library, the command line, the docs'
 #      examples; release speed without fat LTO, see Cargo.toml);
 #   2. the Python module built from pyproject.toml (`pip install .`, a wheel made by
-#      maturin) into a virtual environment with numpy, dask[distributed] and pytest:
+#      maturin) into a virtual environment with numpy, dask[distributed], pytest and
+#      flip-evaluator (NVIDIA's FLIP, the peer of `nffrt diff`, python/tests/test_diff.py):
 #      $NFFRT_VENV, by default target/py-venv, made on first use (delete it, or
 #      point NFFRT_VENV at a new folder, for a fresh one);
 #   3. pytest python/tests against that module and the binary of step 1;
@@ -44,7 +45,7 @@ if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
     "$venv/bin/pip" install -q --upgrade pip
 fi
-"$venv/bin/pip" install -q "maturin>=1.9.4,<2" numpy "dask[distributed]" pytest
+"$venv/bin/pip" install -q "maturin>=1.9.4,<2" numpy "dask[distributed]" pytest flip-evaluator
 # The wheel pip builds with maturin from pyproject.toml (the same command a user
 # runs), reinstalled every time so the tests never see a stale module.
 "$venv/bin/pip" install -q --force-reinstall --no-deps .

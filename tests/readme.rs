@@ -54,7 +54,7 @@ fn options(sub: &str) -> Vec<Vec<String>> {
 #[test]
 fn every_flag_is_in_the_readme() {
     let text = documentation();
-    for sub in ["info", "render", "merge", "gen", "bench", "view"] {
+    for sub in ["info", "render", "merge", "diff", "gen", "bench", "view"] {
         let options = options(sub);
         assert!(options.len() >= 2, "{sub}: {options:?}");
         for names in options {

@@ -9,10 +9,11 @@ and P3F scenes (the IST course's extended NFF), rendering into numpy arrays.
 A scene is loaded (``load``) or parsed (``parse``) once, with its acceleration
 structure, and renders any number of times; ``render`` releases the GIL and stops
 on Ctrl-C. ``tiles`` and ``merge`` split a render into regions and put it back
-together; ``nffrt.dask.render`` runs the regions on a Dask cluster.
+together; ``nffrt.dask.render`` runs the regions on a Dask cluster. ``diff``
+measures how far a picture is from a reference (NVIDIA's FLIP, MSE, PSNR...).
 """
 
-from ._nffrt import Scene, SceneError, __version__, gen, load, parse, save, to_png
+from ._nffrt import Scene, SceneError, __version__, diff, gen, load, parse, save, to_png
 from ._tiles import Region, merge, tiles
 
 __all__ = [
@@ -20,6 +21,7 @@ __all__ = [
     "Scene",
     "SceneError",
     "__version__",
+    "diff",
     "gen",
     "load",
     "merge",

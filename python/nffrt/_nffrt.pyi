@@ -2,7 +2,7 @@
 by ``nffrt``. Keep in step with the Rust signatures."""
 
 import os
-from typing import Optional, Tuple, TypedDict, Union
+from typing import Literal, Optional, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -156,3 +156,15 @@ def to_png(array: npt.ArrayLike) -> bytes:
 
 def bands(width: int, height: int, n: int) -> list[Tuple[int, int, int, int]]:
     """``n`` bands of whole rows, as ``(x0, y0, x1, y1)``."""
+
+Picture = Union[StrPath, npt.ArrayLike]
+Metric = Literal["flip", "mse", "rmse", "relmse", "mae", "psnr"]
+
+def diff(
+    test: Picture, ref: Picture, metric: Metric = "flip", map: bool = False
+) -> Union[float, Tuple[float, npt.NDArray[np.float32]]]:
+    """How far ``test`` is from ``ref`` (paths or ``(H, W, 3)`` arrays: ``uint8``
+    for 8-bit pictures, floats for linear values): FLIP's mean error, or the
+    metric's value (PSNR in dB); with ``map=True`` the tuple of that value and each
+    pixel's error, ``(H, W)`` ``float32``. Raises ``ValueError`` for pictures of
+    different sizes or kinds, ``OSError`` for a file that cannot be read."""

@@ -1,7 +1,8 @@
 //! `nffrt._nffrt`, the compiled half of the Python package `nffrt`: scenes loaded
 //! or parsed into [`scene::PyScene`] (a `nffrt::RenderScene`), rendered into
 //! numpy arrays without the GIL; the SPD generators; image files written as the
-//! command line writes them; the bands of a split render. The Python package
+//! command line writes them; the bands of a split render; pictures compared
+//! (`diff`: FLIP and the classic metrics). The Python package
 //! (python/nffrt/) re-exports all of it and adds tiles, merging and Dask.
 //!
 //! Every error is a Python exception (see [`errors`]); nothing here panics on
@@ -11,6 +12,7 @@
 #![warn(missing_docs)]
 
 mod array;
+mod diff;
 mod errors;
 mod run;
 mod scene;
@@ -117,5 +119,6 @@ fn _nffrt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(save, m)?)?;
     m.add_function(wrap_pyfunction!(to_png, m)?)?;
     m.add_function(wrap_pyfunction!(bands, m)?)?;
+    m.add_function(wrap_pyfunction!(diff::diff, m)?)?;
     Ok(())
 }

@@ -14,6 +14,7 @@ macro_rules! outln {
 }
 
 mod bench;
+mod diff;
 mod gen;
 mod image_out;
 mod info;
@@ -36,6 +37,8 @@ use clap::{Parser, Subcommand};
 pub mod exit {
     /// Success.
     pub const OK: i32 = 0;
+    /// `diff`: a picture is farther from the reference than `--tolerance` allows.
+    pub const ABOVE_TOLERANCE: i32 = 1;
     /// Command-line usage error (unknown option, bad value).
     pub const USAGE: i32 = 2;
     /// The scene file is malformed or unusable.
@@ -84,8 +87,8 @@ impl CliError {
 #[derive(Parser, Debug)]
 #[command(name = "nffrt", version, about, long_about = None, propagate_version = true)]
 #[command(
-    after_help = "Exit codes: 0 success, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
-Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png\n  nffrt view scene.nff"
+    after_help = "Exit codes: 0 success, 1 diff above --tolerance, 2 usage error, 3 bad scene file, 4 I/O error, 130 interrupted.\n\
+Examples:\n  nffrt gen balls -o balls.nff\n  nffrt info scene.nff\n  nffrt render scene.nff -o scene.png --stats\n  nffrt render scene.nff --region 0,0,256,512 -o left.png\n  nffrt merge left.png right.png -o scene.png\n  nffrt diff scene.png reference.png -o heat.png\n  nffrt view scene.nff"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -107,6 +110,9 @@ enum Command {
     /// primary, random and file-supplied rays (no shading), and closest hits in
     /// packets of 8 consecutive rays.
     Bench(bench::BenchArgs),
+    /// Measure how far pictures are from a reference: NVIDIA's FLIP (the default),
+    /// MSE, RMSE, relative MSE, MAE or PSNR; the error map on request.
+    Diff(diff::DiffArgs),
     /// Preview a scene live in the browser: progressive frames, an orbiting camera,
     /// each pixel's ray tree; the file is watched and rendered again when it changes.
     #[cfg(feature = "cli")]
@@ -157,6 +163,7 @@ pub fn run() -> i32 {
         Command::Render(a) => render::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Diff(a) => diff::run(a),
         #[cfg(feature = "cli")]
         Command::View(a) => view::run(a),
     };

@@ -19,7 +19,7 @@ pub mod skybox;
 pub mod tiles;
 
 pub use self::exr::{decode_exr, encode_exr};
-pub use self::png::{decode_png, encode_png, encode_png_rgb8, DecodedPng};
+pub use self::png::{decode_png, decode_png_values, encode_png, encode_png_rgb8, DecodedPng};
 pub use bands::bands;
 pub use format::{png_error, ImageFormat, SOFTWARE_TEXT};
 pub use framebuffer::{quantize, quantize_srgb, Encoding, Image};

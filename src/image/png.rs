@@ -90,6 +90,50 @@ pub fn decode_png(r: impl Read) -> Result<DecodedPng, String> {
     })
 }
 
+/// A PNG of any colour type and depth as RGB values in [0, 1] (`width * height * 3`,
+/// top row first), each channel its stored value over the depth's largest (255 or
+/// 65535), as stored: no curve applied. Grey is repeated in R, G and B, a palette
+/// looked up, and alpha ignored (as NVIDIA's FLIP reads pictures). Refused before
+/// decoding when it has more than `max_pixels` pixels.
+pub fn decode_png_values(r: impl Read, max_pixels: u64) -> Result<(u32, u32, Vec<f32>), String> {
+    // Room for the largest picture allowed at 16-bit RGBA, 8 bytes a pixel.
+    let bytes = usize::try_from(max_pixels.saturating_mul(8)).unwrap_or(usize::MAX);
+    let mut dec = png::Decoder::new_with_limits(
+        r,
+        png::Limits {
+            bytes: bytes.saturating_add(1 << 20),
+        },
+    );
+    dec.set_transformations(png::Transformations::EXPAND);
+    let mut reader = dec.read_info().map_err(|e| e.to_string())?;
+    let (width, height) = reader.info().size();
+    if width as u64 * height as u64 > max_pixels {
+        return Err(format!(
+            "a {width}x{height} picture has more than {max_pixels} pixels"
+        ));
+    }
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let frame = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    buf.truncate(frame.buffer_size());
+    let channels = frame.color_type.samples();
+    let values: Vec<f32> = match frame.bit_depth {
+        png::BitDepth::Eight => buf.iter().map(|&v| v as f32 / 255.0).collect(),
+        png::BitDepth::Sixteen => buf
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]) as f32 / 65535.0)
+            .collect(),
+        depth => return Err(format!("{depth:?}-bit samples after expansion")),
+    };
+    let rgb = values
+        .chunks_exact(channels)
+        .flat_map(|p| match channels {
+            1 | 2 => [p[0]; 3],
+            _ => [p[0], p[1], p[2]],
+        })
+        .collect();
+    Ok((width, height, rgb))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,5 +184,35 @@ mod tests {
         enc.write_header().unwrap().write_image_data(&[7]).unwrap();
         assert!(decode_png(&out[..]).unwrap_err().contains("only 8-bit RGB"));
         assert!(decode_png(&b"not a png"[..]).is_err());
+    }
+
+    #[test]
+    fn reads_every_colour_type_as_values_in_0_1() {
+        let encode = |color, depth, data: &[u8]| {
+            let mut out = Vec::new();
+            let mut enc = png::Encoder::new(&mut out, 2, 1);
+            enc.set_color(color);
+            enc.set_depth(depth);
+            enc.write_header().unwrap().write_image_data(data).unwrap();
+            out
+        };
+        let read = |bytes: Vec<u8>| decode_png_values(&bytes[..], 100).unwrap();
+        use png::{BitDepth::*, ColorType::*};
+        let rgb = read(encode(Rgb, Eight, &[0, 51, 255, 255, 102, 0]));
+        assert_eq!(rgb, (2, 1, vec![0.0, 0.2, 1.0, 1.0, 0.4, 0.0]));
+        // Alpha ignored; grey repeated.
+        let rgba = read(encode(Rgba, Eight, &[0, 51, 255, 7, 255, 102, 0, 0]));
+        assert_eq!(rgba, rgb);
+        assert_eq!(
+            read(encode(GrayscaleAlpha, Eight, &[51, 0, 255, 9])).2,
+            [0.2, 0.2, 0.2, 1.0, 1.0, 1.0]
+        );
+        // 16-bit samples are big-endian: 0x3333 / 0xffff = 0.2.
+        let wide = read(encode(Grayscale, Sixteen, &[0x33, 0x33, 0xff, 0xff]));
+        assert_eq!(wide.2, [0.2, 0.2, 0.2, 1.0, 1.0, 1.0]);
+        assert!(decode_png_values(&encode(Rgb, Eight, &[0; 6])[..], 1)
+            .unwrap_err()
+            .contains("more than 1 pixels"));
+        assert!(decode_png_values(&b"not a png"[..], 100).is_err());
     }
 }
