@@ -6,7 +6,7 @@ use std::fmt;
 use std::path::Path;
 
 use crate::image::{decode_exr, decode_pfm, decode_png_values, decode_ppm, ImageFormat};
-use crate::limits::MAX_PIXELS;
+use crate::limits::DEFAULT_MAX_PIXELS;
 
 /// What a picture's values are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,13 +71,13 @@ impl Picture {
     }
 
     /// A picture of `range` from `width * height * 3` values; refused when the
-    /// count is wrong, the picture empty or larger than [`MAX_PIXELS`], or a value
+    /// count is wrong, the picture empty or larger than [`DEFAULT_MAX_PIXELS`], or a value
     /// not finite (named by its pixel).
     pub fn new(width: u32, height: u32, values: &[f32], range: Range) -> Result<Picture, String> {
         let pixels_count = width as u64 * height as u64;
-        if pixels_count == 0 || pixels_count > MAX_PIXELS {
+        if pixels_count == 0 || pixels_count > DEFAULT_MAX_PIXELS {
             return Err(format!(
-                "a {width}x{height} picture (from 1 to {MAX_PIXELS} pixels are compared)"
+                "a {width}x{height} picture (from 1 to {DEFAULT_MAX_PIXELS} pixels are compared)"
             ));
         }
         if values.len() as u64 != pixels_count * 3 {
@@ -115,7 +115,7 @@ impl Picture {
     pub fn decode(bytes: &[u8], format: ImageFormat) -> Result<Picture, String> {
         match format {
             ImageFormat::Png => {
-                let (w, h, values) = decode_png_values(bytes, MAX_PIXELS)?;
+                let (w, h, values) = decode_png_values(bytes, DEFAULT_MAX_PIXELS)?;
                 Picture::new(w, h, &values, Range::Display)
             }
             ImageFormat::Ppm => {
