@@ -13,6 +13,7 @@ use super::bvh::Bvh;
 use super::grid::Grid;
 use super::leaf::ray8::Ray8;
 use super::tally::{QueryCounts, Tally};
+use super::traverse::packet::Coherence;
 use crate::geometry::{GeometryData, Hit, Primitive};
 use crate::math::Ray;
 use crate::scene::Accel;
@@ -86,11 +87,19 @@ impl Aggregate {
 
     /// The closest hits of the rays of `rays` whose bits are set in `active`, into
     /// `out` (`None` for the other lanes): the BVH traces them as a packet
-    /// ([`Bvh::closest_hits8`]), the others one at a time.
+    /// ([`Bvh::closest_hits8`], its walk as `coherence` suits), the others one at a
+    /// time.
     #[inline]
-    pub fn closest_hits8(&self, rays: &Ray8, t_max: f32, active: u32, out: &mut [Option<(Hit, u32)>; 8]) {
+    pub fn closest_hits8(
+        &self,
+        rays: &Ray8,
+        t_max: f32,
+        active: u32,
+        coherence: Coherence,
+        out: &mut [Option<(Hit, u32)>; 8],
+    ) {
         if let Structure::Bvh = self.structure {
-            return self.bvh.closest_hits8(rays, t_max, active, out);
+            return self.bvh.closest_hits8(rays, t_max, active, coherence, out);
         }
         for (k, hit) in out.iter_mut().enumerate() {
             *hit = (active >> k & 1 != 0)
@@ -101,11 +110,11 @@ impl Aggregate {
 
     /// The bits of the rays of `rays` whose bits are set in `active` with anything on
     /// them with `0 < t < t_max[k]`: the BVH traces them as a packet
-    /// ([`Bvh::occluded8`]), the others one at a time.
+    /// ([`Bvh::occluded8`], its walk as `coherence` suits), the others one at a time.
     #[inline]
-    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32) -> u32 {
+    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32, coherence: Coherence) -> u32 {
         if let Structure::Bvh = self.structure {
-            return self.bvh.occluded8(rays, t_max, active);
+            return self.bvh.occluded8(rays, t_max, active, coherence);
         }
         (0..8)
             .filter(|&k| active >> k & 1 != 0 && self.occluded(&rays.ray(k), t_max[k]))

@@ -64,7 +64,7 @@ pub use grid::{Grid, MAX_CELLS_PER_AXIS};
 pub use leaf::ray8::{Ray8, RayLanes};
 pub use tally::{QueryCounts, Tally};
 pub use traverse::occlusion::NO_HINT;
-pub use traverse::packet::PACKET;
+pub use traverse::packet::{Coherence, PACKET};
 pub use traverse::wide::Node8;
 
 #[cfg(test)]

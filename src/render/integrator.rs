@@ -19,6 +19,7 @@ use std::cell::Cell;
 use super::bsdf::BsdfSample;
 use super::light::LightSampling;
 use super::path::PathTracer;
+use super::rows::EyeBlock;
 use super::shade::{Branch, P3fRules, SpdRules};
 use super::stats::Stats;
 use super::whitted::Whitted;
@@ -64,6 +65,16 @@ pub trait Integrator: Sync {
             done(i, self.eye_radiance(ray, found, id, ctx, &mut NoRecord));
         }
     }
+}
+
+/// What the row loop asks of an integrator for a block of eye samples at once (the
+/// seam where a method may trace many paths together): each sample's radiance,
+/// pushed onto `out` in the block's order, bit for bit what
+/// [`Integrator::eye_radiance`] gives it (unrecorded), with the same ray counts. NaN
+/// and infinity are the caller's to catch.
+pub trait Streams {
+    /// The radiances of `block`'s eye samples (see the trait's docs).
+    fn stream_radiances(&self, block: &EyeBlock, ctx: &mut TraceContext, out: &mut Vec<Vec3>);
 }
 
 /// The integrator of one render: chosen once from the render's options and the
@@ -129,6 +140,37 @@ impl Integrator for ChosenIntegrator<'_> {
             ChosenIntegrator::WhittedP3f(w) => w.eye_radiances(rays, found, ids, ctx, done),
             ChosenIntegrator::Path(p) => p.eye_radiances(rays, found, ids, ctx, done),
         }
+    }
+}
+
+impl Streams for ChosenIntegrator<'_> {
+    /// Whitted's packet by packet ([`Integrator::eye_radiances`]: its point lights'
+    /// shadow rays from a packet's hits go together), the path tracer's as one
+    /// wavefront (`super::wavefront`).
+    fn stream_radiances(&self, block: &EyeBlock, ctx: &mut TraceContext, out: &mut Vec<Vec3>) {
+        match self {
+            ChosenIntegrator::WhittedSpd(w) => packet_by_packet(w, block, ctx, out),
+            ChosenIntegrator::WhittedP3f(w) => packet_by_packet(w, block, ctx, out),
+            ChosenIntegrator::Path(p) => p.stream_radiances(block, ctx, out),
+        }
+    }
+}
+
+/// `block`'s radiances through `integrator`'s [`Integrator::eye_radiances`], one
+/// packet at a time.
+fn packet_by_packet(
+    integrator: &impl Integrator,
+    block: &EyeBlock,
+    ctx: &mut TraceContext,
+    out: &mut Vec<Vec3>,
+) {
+    for packet in block.packets() {
+        let (rays, found, ids) = (
+            &block.rays[packet.clone()],
+            &block.found[packet.clone()],
+            &block.ids[packet],
+        );
+        integrator.eye_radiances(rays, found, ids, ctx, |_, c| out.push(c));
     }
 }
 

@@ -28,6 +28,7 @@ mod rows;
 mod sampling;
 mod shade;
 mod stats;
+mod wavefront;
 pub mod whitted;
 
 pub use camera::{Camera, CameraSample};
@@ -38,7 +39,7 @@ pub use integrator::{
 pub use light::LightSampling;
 pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
-pub use rows::RowTracer;
+pub use rows::{EyeBlock, RowTracer, BLOCK_PATHS};
 pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
 pub use shade::{Branch, Facets, P3fRules, Rules, SpdRules};
 pub use stats::Stats;

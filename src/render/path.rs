@@ -41,6 +41,11 @@ pub struct PathTracer<'a> {
 }
 
 impl<'a> PathTracer<'a> {
+    /// The scene traced.
+    pub(super) fn scene(&self) -> &'a RenderScene {
+        self.scene
+    }
+
     /// Traces `scene` with paths of at most `max_depth` segments, rough surfaces
     /// rough unless `roughness` is false.
     pub fn new(scene: &'a RenderScene, max_depth: u32, roughness: bool) -> Self {
@@ -71,8 +76,8 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 impl Integrator for PathTracer<'_> {
     /// The path of one eye sample traced alone, one query at a time: the reference
     /// the wavefront (`super::wavefront`) is held to, and `--pixel`'s explainer. Both
-    /// take the same steps ([`PathTracer::arrive`], [`PathTracer::light_query`],
-    /// [`PathTracer::light_result`], [`PathTracer::bounce`]) in the same order.
+    /// take the same steps (`arrive`, `light_query`, `light_result`, `bounce`) in the
+    /// same order.
     fn eye_radiance<R: Recorder>(
         &self,
         eye: &Ray,
@@ -198,7 +203,9 @@ impl PathTracer<'_> {
             ctx.stats.secondary_hits += 1;
         }
         if let Some(sigma) = path.medium {
-            path.throughput = path.throughput.mul_elem(beer_lambert(sigma, hit.t * ray.dir.length()));
+            path.throughput = path
+                .throughput
+                .mul_elem(beer_lambert(sigma, hit.t * ray.dir.length()));
         }
         let prim = scene.primitive(index);
         let surface = prim.surface(&ray, &hit, scene.accel().data());
@@ -371,7 +378,11 @@ impl PathTracer<'_> {
             });
         }
         path.last_pdf = (!sample.delta).then_some(sample.pdf);
-        let start = if dir.dot(at.n) > 0.0 { at.sides[0] } else { at.sides[1] };
+        let start = if dir.dot(at.n) > 0.0 {
+            at.sides[0]
+        } else {
+            at.sides[1]
+        };
         if sample.transmitted {
             let m = &self.scene.materials()[at.material as usize];
             path.medium = if at.entering { m.absorption() } else { None };

@@ -15,10 +15,11 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::camera::{Camera, CameraSample};
-use super::integrator::{ChosenIntegrator, Integrator, Recorder, TraceContext};
-use super::sampling::{PixelSampler, SampleId};
+use super::integrator::{ChosenIntegrator, Integrator, Recorder, Streams, TraceContext};
+use super::sampling::{PixelSampler, PixelSeeds, SampleId};
 use super::{Observer, Stats};
-use crate::accel::{Ray8, PACKET};
+use crate::accel::{Coherence, Ray8, PACKET};
+use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
 use crate::options::{RenderOptions, Sampling};
 use crate::prepare::RenderScene;
@@ -72,6 +73,11 @@ impl<'a> RowTracer<'a> {
     /// Adds samples `samples` of the pixels at columns `xs` of row `y`, each times
     /// `weight`, to `sums` (one per column), sample by sample in order: the very
     /// products, in the very order, whatever the split of the samples into calls.
+    ///
+    /// The samples go to the integrator in blocks of at most [`BLOCK_PATHS`] eye
+    /// samples (all the pixels' samples of a run of sample numbers, or one sample of
+    /// a run of pixels when a row alone is larger), each block's eye rays traced in
+    /// packets of eight neighbouring pixels first ([`EyeBlock`]).
     pub fn add_samples(
         &self,
         y: u32,
@@ -82,28 +88,56 @@ impl<'a> RowTracer<'a> {
         ctx: &mut TraceContext,
     ) {
         debug_assert_eq!(xs.len(), sums.len());
-        let pixels: Vec<_> = xs.iter().map(|&x| self.sampler.pixel(x, y)).collect();
-        let (mut cams, mut ids) = (Vec::with_capacity(xs.len()), Vec::with_capacity(xs.len()));
-        for k in samples {
-            cams.clear();
-            ids.clear();
-            for pixel in &pixels {
-                let (sample, id) = self.sampler.sample_of(pixel, k);
-                cams.push(sample);
-                ids.push(id);
-            }
-            let packets = cams.chunks(PACKET).zip(ids.chunks(PACKET));
-            for (p, (cams, ids)) in packets.enumerate() {
-                let packet = self.camera.rays8(cams);
-                let mut rays = [packet.ray(0); PACKET];
-                for (k, ray) in rays.iter_mut().enumerate().take(cams.len()).skip(1) {
-                    *ray = packet.ray(k);
+        let span = xs.len().clamp(1, BLOCK_PATHS);
+        let per_block = (BLOCK_PATHS / span).max(1) as u32;
+        let mut block = EyeBlock::default();
+        let mut radiances = Vec::new();
+        for (xs, sums) in xs.chunks(span).zip(sums.chunks_mut(span)) {
+            let pixels: Vec<_> = xs.iter().map(|&x| self.sampler.pixel(x, y)).collect();
+            let mut k0 = samples.start;
+            while k0 < samples.end {
+                let k1 = samples.end.min(k0.saturating_add(per_block));
+                block.clear();
+                for k in k0..k1 {
+                    self.eye_rays(&pixels, k, &mut block, ctx);
                 }
-                let sums = &mut sums[p * PACKET..];
-                self.trace_packet(&packet, &rays[..cams.len()], ids, ctx, |i, c| {
-                    sums[i] += c * weight
-                });
+                radiances.clear();
+                self.integrator.stream_radiances(&block, ctx, &mut radiances);
+                // Sample by sample, each pixel's in order.
+                for (row, _) in radiances.chunks(xs.len()).zip(k0..k1) {
+                    for (sum, &c) in sums.iter_mut().zip(row) {
+                        *sum += finite_or_black(c) * weight;
+                    }
+                }
+                k0 = k1;
             }
+        }
+    }
+
+    /// Sample `k` of `pixels` added to `block`: its eye rays made by the camera and
+    /// traced through the acceleration structure in packets of eight neighbours
+    /// (packets find the very hits single rays find).
+    fn eye_rays(&self, pixels: &[PixelSeeds], k: u32, block: &mut EyeBlock, ctx: &mut TraceContext) {
+        for pixels in pixels.chunks(PACKET) {
+            let (mut cams, mut ids) = (
+                [CameraSample::at(0.0, 0.0); PACKET],
+                [SampleId::single(0, 0); PACKET],
+            );
+            for (i, pixel) in pixels.iter().enumerate() {
+                (cams[i], ids[i]) = self.sampler.sample_of(pixel, k);
+            }
+            let n = pixels.len();
+            let packet = self.camera.rays8(&cams[..n]);
+            let mut hits = [None; PACKET];
+            self.scene.accel().closest_hits8(
+                &packet,
+                f32::INFINITY,
+                (1 << n) - 1,
+                Coherence::Coherent,
+                &mut hits,
+            );
+            ctx.stats.eye_rays += n as u64;
+            block.push_packet(&packet, &hits[..n], &ids[..n]);
         }
     }
 
@@ -124,7 +158,8 @@ impl<'a> RowTracer<'a> {
     /// Eye rays `rays[i]` of samples `ids[i]` (one to [`PACKET`] of them), packed in
     /// `packet` too, traced through the acceleration structure together (packets find
     /// the very hits single rays find), each then given to the integrator; calls
-    /// `done(i, radiance)` in order, a NaN or infinite radiance as black.
+    /// `done(i, radiance)` in order, a NaN or infinite radiance as black. (The SPD
+    /// protocol's corners; samples go through [`RowTracer::add_samples`].)
     fn trace_packet(
         &self,
         packet: &Ray8,
@@ -136,9 +171,13 @@ impl<'a> RowTracer<'a> {
         let n = rays.len();
         debug_assert!((1..=PACKET).contains(&n) && ids.len() == n);
         let mut hits = [None; PACKET];
-        self.scene
-            .accel()
-            .closest_hits8(packet, f32::INFINITY, (1 << n) - 1, &mut hits);
+        self.scene.accel().closest_hits8(
+            packet,
+            f32::INFINITY,
+            (1 << n) - 1,
+            Coherence::Coherent,
+            &mut hits,
+        );
         ctx.stats.eye_rays += n as u64;
         self.integrator
             .eye_radiances(rays, &hits[..n], ids, ctx, |i, radiance| {
@@ -170,6 +209,62 @@ impl<'a> RowTracer<'a> {
         ctx.stats.eye_rays += 1;
         let found = self.scene.accel().closest_hit(ray, f32::INFINITY);
         finite_or_black(self.integrator.eye_radiance(ray, found, id, ctx, rec))
+    }
+}
+
+/// The most eye samples [`RowTracer::add_samples`] hands the integrator at once: it
+/// bounds a render's memory per thread (the wavefront's queues hold one block's
+/// paths), whatever the picture's size and samples per pixel.
+pub const BLOCK_PATHS: usize = 4096;
+
+/// Eye samples handed to an integrator together: their eye rays, the rays' closest
+/// hits and the samples, in packets of up to eight neighbouring pixels of one
+/// sample number, packets in the order they were traced.
+#[derive(Default)]
+pub struct EyeBlock {
+    /// The eye rays.
+    pub rays: Vec<Ray>,
+    /// Their closest hits.
+    pub found: Vec<Option<(Hit, u32)>>,
+    /// Their samples.
+    pub ids: Vec<SampleId>,
+    /// Where each packet ends in the lists.
+    ends: Vec<usize>,
+}
+
+impl EyeBlock {
+    /// Empties the block, keeping its memory.
+    pub fn clear(&mut self) {
+        self.rays.clear();
+        self.found.clear();
+        self.ids.clear();
+        self.ends.clear();
+    }
+
+    /// Adds a packet: its rays, their hits and their samples.
+    pub fn push_packet(&mut self, packet: &Ray8, found: &[Option<(Hit, u32)>], ids: &[SampleId]) {
+        for (k, (hit, id)) in found.iter().zip(ids).enumerate() {
+            self.rays.push(packet.ray(k));
+            self.found.push(*hit);
+            self.ids.push(*id);
+        }
+        self.ends.push(self.rays.len());
+    }
+
+    /// The packets as ranges of the lists, in order.
+    pub fn packets(&self) -> impl Iterator<Item = Range<usize>> + '_ {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts.zip(self.ends.iter().copied()).map(|(a, b)| a..b)
+    }
+
+    /// The number of eye samples.
+    pub fn len(&self) -> usize {
+        self.rays.len()
+    }
+
+    /// True for a block without samples.
+    pub fn is_empty(&self) -> bool {
+        self.rays.is_empty()
     }
 }
 

@@ -15,7 +15,7 @@ use super::microfacet::{Frame as MicroFrame, TrowbridgeReitz};
 use super::optics::beer_lambert;
 use super::sampling::{Dim, SampleId};
 use super::shade::{local, Branch, Facets, Rules};
-use crate::accel::{Ray8, RayLanes, PACKET};
+use crate::accel::{Coherence, Ray8, RayLanes, PACKET};
 use crate::geometry::{point_error, Hit, Primitive};
 use crate::math::{lanes, Ray, Vec3};
 use crate::prepare::LightSource;
@@ -475,7 +475,12 @@ impl<'a, M: Rules> Whitted<'a, M> {
                 Some(hint) if cached => lanes(active)
                     .filter(|&i| accel.occluded_hinted(&shadow_rays[i], 1.0, hint))
                     .fold(0, |bits, i| bits | 1 << i),
-                _ => accel.occluded8(&Ray8::new(&shadow_rays[..rays.len()]), &[1.0; PACKET], active),
+                _ => accel.occluded8(
+                    &Ray8::new(&shadow_rays[..rays.len()]),
+                    &[1.0; PACKET],
+                    active,
+                    Coherence::Coherent,
+                ),
             };
             ctx.eye_shadows_cached = ctx.eye_shadows_cached & !(1 << k) | u32::from(blocked != 0) << k;
             ctx.stats.shadow_rays += u64::from(active.count_ones());
@@ -517,9 +522,12 @@ impl<'a, M: Rules> Whitted<'a, M> {
         let blocked = if active == 0 {
             0
         } else {
-            self.scene
-                .accel()
-                .occluded8(&rays.packet(points.len()), &[1.0; SHADOW_PACKET], active)
+            self.scene.accel().occluded8(
+                &rays.packet(points.len()),
+                &[1.0; SHADOW_PACKET],
+                active,
+                Coherence::Coherent,
+            )
         };
         ctx.stats.shadow_rays += u64::from(active.count_ones());
         ctx.stats.shadow_blocked += u64::from(blocked.count_ones());

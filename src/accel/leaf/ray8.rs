@@ -83,6 +83,7 @@ impl RayLanes {
             sheared_origin: [[0.0; RAYS]; 3],
             shear: [[0.0; RAYS]; 3],
             axes: [[Axis::X; 3]; RAYS],
+            picks: [[[0.0; RAYS]; 2]; 3],
             shared_axes: None,
             time: self.time,
         };
@@ -124,6 +125,10 @@ pub struct Ray8 {
     pub shear: [[f32; RAYS]; 3],
     /// Each ray's [`Sheared::axes`].
     pub axes: [[Axis; 3]; RAYS],
+    /// The same axes as lane masks, per frame axis `[j]` the rays whose axis `j` is
+    /// world `x` (`[j][0]`, all ones) or `y` (`[j][1]`); the others' is `z`. They
+    /// permute a vertex for every ray at once ([`Ray8::gather`]).
+    pub picks: [[[f32; RAYS]; 2]; 3],
     /// The axes, when all eight rays have the same.
     pub shared_axes: Option<[Axis; 3]>,
     /// Times (`Ray::time`).
@@ -175,6 +180,11 @@ impl Ray8 {
             (pick(&d, y_is_x, y_is_y) * sz).to_array(),
             sz.to_array(),
         ];
+        self.picks = [
+            [x_is_x.to_array(), x_is_y.to_array()],
+            [y_is_x.to_array(), y_is_y.to_array()],
+            [z_is_x.to_array(), z_is_y.to_array()],
+        ];
         let (is_x, is_y, neg) = (z_is_x.to_bitmask(), z_is_y.to_bitmask(), negative.to_bitmask());
         for (k, axes) in self.axes.iter_mut().enumerate() {
             let kz = if is_x >> k & 1 != 0 {
@@ -206,18 +216,17 @@ impl Ray8 {
     }
 
     /// Lane `lane`'s vertices of `block`, each permuted by each ray's axes,
-    /// `[vertex][axis][ray]` (for rays that do not share their axes).
+    /// `[vertex][axis]` eight rays wide (for rays that do not share their axes): per
+    /// frame axis the vertex's world coordinate that [`Ray8::picks`] selects.
     #[inline(always)]
-    pub fn gather(&self, block: &Tri4, lane: usize) -> [[[f32; RAYS]; 3]; 3] {
-        let mut out = [[[0.0; RAYS]; 3]; 3];
-        for (vertex, v) in [&block.v0, &block.v1, &block.v2].into_iter().enumerate() {
-            for (k, axes) in self.axes.iter().enumerate() {
-                for (j, &axis) in axes.iter().enumerate() {
-                    out[vertex][j][k] = v[axis as usize][lane];
-                }
-            }
-        }
-        out
+    pub fn gather(&self, block: &Tri4, lane: usize) -> [[f32x8; 3]; 3] {
+        let masks = self
+            .picks
+            .map(|[is_x, is_y]| (f32x8::from(is_x), f32x8::from(is_y)));
+        [&block.v0, &block.v1, &block.v2].map(|v| {
+            let [x, y, z] = [0, 1, 2].map(|axis| f32x8::splat(v[axis][lane]));
+            masks.map(|(is_x, is_y)| is_x.bitselect(x, is_y.bitselect(y, z)))
+        })
     }
 }
 
@@ -267,7 +276,7 @@ impl Tri4 {
     #[inline(never)]
     fn hits8_gathered(&self, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
         let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
-        let [v0, v1, v2] = rays.gather(self, lane).map(|v| rows(&v));
+        let [v0, v1, v2] = rays.gather(self, lane);
         let limit = f32x8::from(*limits);
         if !exact {
             if let Some(found) = watertight(&origin, &shear, &v0, &v1, &v2, limit) {

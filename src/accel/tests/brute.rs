@@ -3,6 +3,7 @@
 //! random ray times.
 
 use super::*;
+use crate::accel::Coherence;
 
 fn unit() -> impl Strategy<Value = Vec3> {
     v3(1.0)
@@ -312,7 +313,7 @@ fn moving_spheres_agree_with_brute_force_at_any_time() {
     for (p, packet) in fan.chunks(RAYS).enumerate() {
         let limits: [f32; RAYS] = std::array::from_fn(|k| [8.0, 30.0, 45.0, f32::INFINITY][(k + p) % 4]);
         let active = if p % 3 == 0 { 0b1011_0111 } else { 0xff } & ((1 << packet.len()) - 1);
-        let got = bvh.occluded8(&Ray8::new(packet), &limits, active);
+        let got = bvh.occluded8(&Ray8::new(packet), &limits, active, Coherence::Coherent);
         for (k, r) in packet.iter().enumerate() {
             let first = bvh.closest_hit_linear(r, limits[k]);
             let want = active >> k & 1 != 0 && first.is_some();

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::accel::leaf::ray8::Ray8;
+use crate::accel::traverse::packet::Coherence;
 use crate::accel::traverse::wide::Portable;
 
 /// A direction component: mostly random, sometimes exactly zero (of either sign).
@@ -64,17 +65,29 @@ fn bits(h: &Option<(Hit, u32)>) -> Option<(u32, u32, u32, u32)> {
     h.map(|(h, p)| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), p))
 }
 
-/// Asserts that both kernels answer every packet as each ray alone.
+/// Asserts that both kernels answer every packet as each ray alone, whichever walk
+/// the packet takes.
 fn assert_packets_agree(bvh: &Bvh, packets: &[(Vec<Ray>, u32, [f32; 8])]) -> Result<(), TestCaseError> {
+    for coherence in [Coherence::Coherent, Coherence::Mixed] {
+        assert_packets_agree_by(bvh, packets, coherence)?;
+    }
+    Ok(())
+}
+
+fn assert_packets_agree_by(
+    bvh: &Bvh,
+    packets: &[(Vec<Ray>, u32, [f32; 8])],
+    coherence: Coherence,
+) -> Result<(), TestCaseError> {
     for (rays, active, limits) in packets {
         let r = packed(rays, *active);
         let t_max = limits[0];
         let mut got = [None; 8];
         let mut portable = [None; 8];
-        bvh.closest_hits8(&r, t_max, *active, &mut got);
-        bvh.closest_hits8_with(Portable, &r, t_max, *active, &mut portable);
-        let blocked = bvh.occluded8(&r, limits, *active);
-        let blocked_portable = bvh.occluded8_with(Portable, &r, limits, *active);
+        bvh.closest_hits8(&r, t_max, *active, coherence, &mut got);
+        bvh.closest_hits8_with(Portable, &r, t_max, *active, coherence, &mut portable);
+        let blocked = bvh.occluded8(&r, limits, *active, coherence);
+        let blocked_portable = bvh.occluded8_with(Portable, &r, limits, *active, coherence);
         for (k, ray) in rays.iter().enumerate() {
             if active >> k & 1 == 0 {
                 prop_assert!(got[k].is_none() && portable[k].is_none());
@@ -83,11 +96,30 @@ fn assert_packets_agree(bvh: &Bvh, packets: &[(Vec<Ray>, u32, [f32; 8])]) -> Res
                 continue;
             }
             let single = bits(&bvh.closest_hit(ray, t_max));
-            prop_assert_eq!(bits(&got[k]), single, "ray {}", k);
-            prop_assert_eq!(bits(&portable[k]), single, "ray {}, portable", k);
+            prop_assert_eq!(bits(&got[k]), single, "ray {} ({:?})", k, coherence);
+            prop_assert_eq!(
+                bits(&portable[k]),
+                single,
+                "ray {}, portable ({:?})",
+                k,
+                coherence
+            );
             let occluded = bvh.occluded(ray, limits[k]);
-            prop_assert_eq!(blocked >> k & 1 != 0, occluded, "ray {} below {}", k, limits[k]);
-            prop_assert_eq!(blocked_portable >> k & 1 != 0, occluded, "ray {}, portable", k);
+            prop_assert_eq!(
+                blocked >> k & 1 != 0,
+                occluded,
+                "ray {} below {} ({:?})",
+                k,
+                limits[k],
+                coherence
+            );
+            prop_assert_eq!(
+                blocked_portable >> k & 1 != 0,
+                occluded,
+                "ray {}, portable ({:?})",
+                k,
+                coherence
+            );
         }
     }
     Ok(())

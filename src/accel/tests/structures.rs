@@ -5,6 +5,7 @@
 //! and each counts the work it does.
 
 use super::*;
+use crate::accel::Coherence;
 use crate::accel::{Aggregate, QueryCounts, Ray8};
 use crate::geometry::SourceKind;
 use crate::scene::{Accel, Plane};
@@ -43,10 +44,13 @@ fn assert_same_answers(structures: &[Aggregate; 3], ray: &Ray) {
 fn assert_same_packet_answers(structures: &[Aggregate; 3], rays: &[Ray], active: u32) {
     let r8 = crate::accel::Ray8::new(rays);
     let limits = std::array::from_fn(|k| [0.5f32, 3.0, f32::INFINITY][k % 3]);
-    for s in structures {
+    for (s, coherence) in structures
+        .iter()
+        .flat_map(|s| [(s, Coherence::Coherent), (s, Coherence::Mixed)])
+    {
         let mut out = [None; 8];
-        s.closest_hits8(&r8, f32::INFINITY, active, &mut out);
-        let blocked = s.occluded8(&r8, &limits, active);
+        s.closest_hits8(&r8, f32::INFINITY, active, coherence, &mut out);
+        let blocked = s.occluded8(&r8, &limits, active, coherence);
         for k in 0..8 {
             let on = active >> k & 1 != 0;
             let ray = &rays[k.min(rays.len() - 1)];
@@ -105,7 +109,7 @@ fn assert_packets_answer_each_ray(structures: &[Aggregate; 3], rays: &[Ray]) {
                     .filter(|&k| active >> k & 1 != 0 && s.occluded(&packet[k], t_max[k]))
                     .fold(0, |bits, k| bits | 1 << k);
                 assert_eq!(
-                    s.occluded8(&packed, &t_max, active),
+                    s.occluded8(&packed, &t_max, active, Coherence::Coherent),
                     want,
                     "{:?}, {active:#b}",
                     s.kind()
@@ -160,7 +164,13 @@ fn ties_go_to_the_primitive_first_in_the_file() {
         for s in &structures {
             for packet in rays.chunks(8) {
                 let mut out = [None; 8];
-                s.closest_hits8(&Ray8::new(packet), f32::INFINITY, 0xFF, &mut out);
+                s.closest_hits8(
+                    &Ray8::new(packet),
+                    f32::INFINITY,
+                    0xFF,
+                    Coherence::Coherent,
+                    &mut out,
+                );
                 for (ray, got) in packet.iter().zip(out) {
                     let (_, prim) = s
                         .closest_hit(ray, f32::INFINITY)

@@ -17,14 +17,15 @@
 #![allow(unsafe_code)]
 
 use std::arch::x86_64::{
-    __m256, _mm256_add_ps, _mm256_and_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
-    _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
+    __m256, _mm256_add_ps, _mm256_and_ps, _mm256_blendv_ps, _mm256_castps256_ps128, _mm256_cmp_ps,
+    _mm256_div_ps, _mm256_extractf128_ps, _mm256_loadu2_m128, _mm256_loadu_ps, _mm256_max_ps, _mm256_min_ps,
     _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps,
     _mm_storeu_ps, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
 };
 
-use super::octant::{Frustum, PacketBoxes};
-use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, MAX, WIDTH};
+use super::octant::{least, Frustum, PacketBoxes};
+use super::packet::Coherence;
+use super::wide::{Kernels, Node8, RayBoxes, FAR_SCALE, MAX, MIN, WIDTH};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, with_kinds};
 use crate::accel::leaf::ray8::{Hits8, Ray8, RAYS};
@@ -62,17 +63,25 @@ impl Avx {
         rays: &Ray8,
         t_max: f32,
         active: u32,
+        coherence: Coherence,
         out: &mut [Option<(Hit, u32)>; RAYS],
     ) {
         // SAFETY: as in `closest_hit`.
-        unsafe { closest_hits8_avx(self, bvh, rays, t_max, active, out) }
+        unsafe { closest_hits8_avx(self, bvh, rays, t_max, active, coherence, out) }
     }
 
     /// [`Bvh::occluded8`], compiled for AVX2.
     #[inline]
-    pub fn occluded8(self, bvh: &Bvh, rays: &Ray8, t_max: &[f32; RAYS], active: u32) -> u32 {
+    pub fn occluded8(
+        self,
+        bvh: &Bvh,
+        rays: &Ray8,
+        t_max: &[f32; RAYS],
+        active: u32,
+        coherence: Coherence,
+    ) -> u32 {
         // SAFETY: as in `closest_hit`.
-        unsafe { occluded8_avx(self, bvh, rays, t_max, active) }
+        unsafe { occluded8_avx(self, bvh, rays, t_max, active, coherence) }
     }
 
     /// `Bvh::occluder`, compiled for AVX2.
@@ -95,14 +104,22 @@ fn closest_hits8_avx(
     rays: &Ray8,
     t_max: f32,
     active: u32,
+    coherence: Coherence,
     out: &mut [Option<(Hit, u32)>; RAYS],
 ) {
-    bvh.closest_hits8_with(avx, rays, t_max, active, out)
+    bvh.closest_hits8_with(avx, rays, t_max, active, coherence, out)
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
-fn occluded8_avx(avx: Avx, bvh: &Bvh, rays: &Ray8, t_max: &[f32; RAYS], active: u32) -> u32 {
-    bvh.occluded8_with(avx, rays, t_max, active)
+fn occluded8_avx(
+    avx: Avx,
+    bvh: &Bvh,
+    rays: &Ray8,
+    t_max: &[f32; RAYS],
+    active: u32,
+    coherence: Coherence,
+) -> u32 {
+    bvh.occluded8_with(avx, rays, t_max, active, coherence)
 }
 
 #[target_feature(enable = "avx,avx2,bmi1,bmi2,lzcnt")]
@@ -152,6 +169,19 @@ impl Kernels for Avx {
     ) -> u32 {
         // SAFETY: as in `entries`.
         unsafe { entered8_avx(node, lane, rays, near, limits) }
+    }
+
+    #[inline(always)]
+    fn entered8_mixed(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        negative: &[[f32; RAYS]; 3],
+        limits: &[f32; RAYS],
+    ) -> (u32, f32) {
+        // SAFETY: as in `entries`.
+        unsafe { entered8_mixed_avx(node, lane, rays, negative, limits) }
     }
 }
 
@@ -204,6 +234,38 @@ fn entered8_avx(
     _mm256_movemask_ps(_mm256_and_ps(entered, before)) as u32
 }
 
+/// `PacketBoxes::entered_mixed` in AVX registers: per ray the operations of
+/// [`entries_avx`] on the same operands in the same order, each ray's entry sides
+/// chosen by its signs.
+#[target_feature(enable = "avx")]
+#[inline]
+fn entered8_mixed_avx(
+    node: &Node8,
+    lane: usize,
+    rays: &PacketBoxes,
+    negative: &[[f32; RAYS]; 3],
+    limits: &[f32; RAYS],
+) -> (u32, f32) {
+    let (mul, sub) = (_mm256_mul_ps, _mm256_sub_ps);
+    let limit = load8(limits);
+    let mut t_near = _mm256_setzero_ps();
+    let mut t_far = limit;
+    for (axis, neg) in negative.iter().enumerate() {
+        let neg = load8(neg);
+        let min = _mm256_set1_ps(node.bounds[MIN][axis][lane]);
+        let max = _mm256_set1_ps(node.bounds[MAX][axis][lane]);
+        let (lo, hi) = (_mm256_blendv_ps(min, max, neg), _mm256_blendv_ps(max, min, neg));
+        let (o, inv) = (load8(&rays.origin[axis]), load8(&rays.inv[axis]));
+        t_near = _mm256_max_ps(mul(sub(lo, o), inv), t_near);
+        t_far = _mm256_min_ps(mul(sub(hi, o), inv), t_far);
+    }
+    let entered = _mm256_cmp_ps::<_CMP_LE_OQ>(t_near, mul(t_far, _mm256_set1_ps(FAR_SCALE)));
+    let before = _mm256_cmp_ps::<_CMP_LT_OQ>(t_near, limit);
+    let hit = _mm256_and_ps(entered, before);
+    let near = _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), t_near, hit);
+    (_mm256_movemask_ps(hit) as u32, least(store8(near)))
+}
+
 /// Eight lanes as an AVX register.
 #[target_feature(enable = "avx")]
 #[inline]
@@ -254,16 +316,23 @@ fn hits8_avx(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS]) -> Hi
     }
 }
 
-/// [`hits8_avx`] for rays that do not share their axes (the vertices gathered lane
-/// by lane, `Ray8::gather`), or with `exact` when an edge function came out zero.
+/// [`hits8_avx`] for rays that do not share their axes (each vertex permuted for
+/// each ray, as `Ray8::gather` does), or with `exact` when an edge function came
+/// out zero.
 #[target_feature(enable = "avx")]
-#[cold]
 #[inline(never)]
 fn hits8_avx_gathered(block: &Tri4, lane: usize, rays: &Ray8, limits: &[f32; RAYS], exact: bool) -> Hits8 {
     let rows = |a: &[[f32; RAYS]; 3]| [load8(&a[0]), load8(&a[1]), load8(&a[2])];
-    let [v0, v1, v2] = rays.gather(block, lane);
+    let picks = rays.picks.map(|[is_x, is_y]| (load8(&is_x), load8(&is_y)));
+    let gather = |v: &[[f32; 4]; 3]| {
+        let [x, y, z] = [0, 1, 2].map(|axis| _mm256_set1_ps(v[axis][lane]));
+        picks.map(|(is_x, is_y)| _mm256_blendv_ps(_mm256_blendv_ps(z, y, is_y), x, is_x))
+    };
     let (origin, shear) = (rows(&rays.sheared_origin), rows(&rays.shear));
-    let (v, limit) = ([rows(&v0), rows(&v1), rows(&v2)], load8(limits));
+    let (v, limit) = (
+        [gather(&block.v0), gather(&block.v1), gather(&block.v2)],
+        load8(limits),
+    );
     if !exact {
         if let Some(found) = watertight8(origin, shear, v, limit) {
             return found;

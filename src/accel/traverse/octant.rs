@@ -71,7 +71,56 @@ impl PacketBoxes {
     }
 }
 
-/// The rays of one octant of a packet.
+impl PacketBoxes {
+    /// [`PacketBoxes::entered`] for rays of any directions: each ray enters the box
+    /// through the sides its own signs give (`negative`, per axis the rays' lanes
+    /// all ones where the direction is negative), so that each gets exactly its
+    /// single-ray answer; with the least entry among the rays that enter.
+    #[inline(always)]
+    pub fn entered_mixed(
+        &self,
+        node: &Node8,
+        lane: usize,
+        negative: &[[f32; RAYS]; 3],
+        limits: &[f32; RAYS],
+    ) -> (u32, f32) {
+        let limit = f32x8::from(*limits);
+        let mut t_near = f32x8::ZERO;
+        let mut t_far = limit;
+        for (axis, neg) in negative.iter().enumerate() {
+            let neg = f32x8::from(*neg);
+            let (min, max) = (
+                f32x8::splat(node.bounds[MIN][axis][lane]),
+                f32x8::splat(node.bounds[MAX][axis][lane]),
+            );
+            let (lo, hi) = (neg.bitselect(max, min), neg.bitselect(min, max));
+            let (o, inv) = (f32x8::from(self.origin[axis]), f32x8::from(self.inv[axis]));
+            t_near = ((lo - o) * inv).fast_max(t_near);
+            t_far = ((hi - o) * inv).fast_min(t_far);
+        }
+        let hit = t_near.simd_le(t_far * f32x8::splat(FAR_SCALE)) & t_near.simd_lt(limit);
+        let near = hit.bitselect(t_near, f32x8::splat(f32::INFINITY));
+        (hit.to_bitmask(), least(near.to_array()))
+    }
+
+    /// Per axis, the lanes of rays with a negative direction, as all-ones lanes (for
+    /// [`PacketBoxes::entered_mixed`]).
+    #[inline(always)]
+    pub fn negative(&self) -> [[f32; RAYS]; 3] {
+        self.inv
+            .map(|inv| f32x8::from(inv).simd_lt(f32x8::ZERO).to_array())
+    }
+}
+
+/// The least of eight lanes (by plain comparison).
+#[inline(always)]
+pub fn least(v: [f32; RAYS]) -> f32 {
+    v.into_iter()
+        .fold(f32::INFINITY, |m, x| if x < m { x } else { m })
+}
+
+/// The rays of one octant of a packet, or of a packet of mixed directions walked
+/// together.
 #[derive(Clone, Copy)]
 pub struct Octant {
     /// The rays, as bits.
@@ -82,6 +131,24 @@ pub struct Octant {
     /// The frustum test of the rays, unless one of them runs parallel to an axis (an
     /// infinite inverse direction, which interval arithmetic cannot bound).
     pub frustum: Option<Frustum>,
+    /// For rays of mixed directions ([`Octant::mixed`]): per axis, the lanes of rays
+    /// with negative directions ([`PacketBoxes::negative`]); each ray enters boxes
+    /// through its own sides, and `near` and `frustum` mean nothing.
+    pub mixed: Option<[[f32; RAYS]; 3]>,
+}
+
+impl Octant {
+    /// The rays `active` of `boxes`, whatever their directions, as one group: no
+    /// frustum, each box tested against every ray with its own entry sides.
+    #[inline(always)]
+    pub fn mixed(boxes: &PacketBoxes, active: u32) -> Octant {
+        Octant {
+            lanes: active & ALL,
+            near: [MIN; 3],
+            frustum: None,
+            mixed: Some(boxes.negative()),
+        }
+    }
 }
 
 /// The signs of a packet's rays, from which its octants are taken one by one.
@@ -127,7 +194,12 @@ impl Octants {
         self.left &= !lanes;
         let near = self.negative.map(|n| if n & lanes != 0 { MAX } else { MIN });
         let frustum = (self.parallel & lanes == 0).then(|| Frustum::new(boxes, lanes, &near));
-        Some(Octant { lanes, near, frustum })
+        Some(Octant {
+            lanes,
+            near,
+            frustum,
+            mixed: None,
+        })
     }
 }
 
@@ -158,8 +230,7 @@ impl Frustum {
             let lo = on.bitselect(v, f32x8::splat(f32::INFINITY)).to_array();
             let hi = on.bitselect(v, f32x8::splat(f32::NEG_INFINITY)).to_array();
             [
-                lo.into_iter()
-                    .fold(f32::INFINITY, |m, x| if x < m { x } else { m }),
+                least(lo),
                 hi.into_iter()
                     .fold(f32::NEG_INFINITY, |m, x| if x > m { x } else { m }),
             ]

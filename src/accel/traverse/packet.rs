@@ -34,6 +34,17 @@ use crate::math::{lanes, Ray};
 /// Rays per packet.
 pub const PACKET: usize = RAYS;
 
+/// How the rays of a packet go: the walk a packet query takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coherence {
+    /// Neighbouring camera rays, shadow rays towards one light: split by direction
+    /// octant, each octant's rays walked together behind one frustum test per node.
+    Coherent,
+    /// Rays of any directions (a path tracer's bounces): walked together, each box
+    /// tested against every ray with its own entry sides, no frustum.
+    Mixed,
+}
+
 /// A triangle leaf entered by at least this many rays of a packet is tested against
 /// all of them at once (eight rays, one triangle) rather than ray by ray.
 pub(super) const TOGETHER: u32 = 4;
@@ -182,7 +193,11 @@ impl Bvh {
     pub fn closest_hit_packet(&self, rays: &[Ray], t_max: f32, out: &mut [Option<(Hit, u32)>]) {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return self.closest_hit_packet_by(|r, a, o| avx.closest_hits8(self, r, t_max, a, o), rays, out);
+            return self.closest_hit_packet_by(
+                |r, a, o| avx.closest_hits8(self, r, t_max, a, Coherence::Coherent, o),
+                rays,
+                out,
+            );
         }
         self.closest_hit_packet_with(Portable, rays, t_max, out)
     }
@@ -196,7 +211,7 @@ impl Bvh {
         out: &mut [Option<(Hit, u32)>],
     ) {
         self.closest_hit_packet_by(
-            |r, a, o| self.closest_hits8_with(kernels, r, t_max, a, o),
+            |r, a, o| self.closest_hits8_with(kernels, r, t_max, a, Coherence::Coherent, o),
             rays,
             out,
         )
@@ -224,20 +239,21 @@ impl Bvh {
 
     /// [`Bvh::closest_hit`] for the rays of `rays` whose bits are set in `active`:
     /// `out[k]` receives the nearest hit of ray `k` with `0 < t < t_max`, the very
-    /// hit `closest_hit` gives it (ties included); `None` for the other lanes.
-    /// Fastest on coherent rays (neighbouring camera rays).
+    /// hit `closest_hit` gives it (ties included); `None` for the other lanes. The
+    /// walk suits rays as `coherence` says they go ([`Coherence`]).
     pub fn closest_hits8(
         &self,
         rays: &Ray8,
         t_max: f32,
         active: u32,
+        coherence: Coherence,
         out: &mut [Option<(Hit, u32)>; PACKET],
     ) {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return avx.closest_hits8(self, rays, t_max, active, out);
+            return avx.closest_hits8(self, rays, t_max, active, coherence, out);
         }
-        self.closest_hits8_with(Portable, rays, t_max, active, out)
+        self.closest_hits8_with(Portable, rays, t_max, active, coherence, out)
     }
 
     /// [`Bvh::closest_hits8`] with the kernels `kernels` (see `closest_hit_with`).
@@ -248,6 +264,7 @@ impl Bvh {
         rays: &Ray8,
         t_max: f32,
         active: u32,
+        coherence: Coherence,
         out: &mut [Option<(Hit, u32)>; PACKET],
     ) {
         *out = [None; PACKET];
@@ -261,7 +278,7 @@ impl Bvh {
             limits: [t_max; PACKET],
         };
         self.unbounded_closest8(&mut q, active);
-        self.walk_packet(kernels, rays, &mut q, active);
+        self.walk_packet(kernels, rays, &mut q, active, coherence);
         for (k, (out, nearest)) in out.iter_mut().zip(&q.nearest).enumerate() {
             if active >> k & 1 != 0 {
                 *out = nearest.best;
@@ -269,8 +286,9 @@ impl Bvh {
         }
     }
 
-    /// The tree walks of the rays `active` of `rays` for the query `q`, an octant at
-    /// a time.
+    /// The tree walks of the rays `active` of `rays` for the query `q`: an octant at
+    /// a time for coherent rays, or all together, each box tested against every ray
+    /// with its own entry sides ([`Coherence::Mixed`]).
     #[inline(always)]
     pub(super) fn walk_packet<S: Kernels, Q: PacketQuery>(
         &self,
@@ -278,13 +296,18 @@ impl Bvh {
         rays: &Ray8,
         q: &mut Q,
         active: u32,
+        coherence: Coherence,
     ) {
         if active == 0 || self.wide.is_empty() {
             return;
         }
         let boxes = PacketBoxes::new(rays);
-        let mut octants = Octants::new(&boxes, active);
         PACKET_STACK.with_borrow_mut(|stack| {
+            if coherence == Coherence::Mixed {
+                let all = Octant::mixed(&boxes, active);
+                return self.walk_octant(kernels, &boxes, &all, q, &mut stack.0);
+            }
+            let mut octants = Octants::new(&boxes, active);
             while let Some(octant) = octants.next(&boxes) {
                 self.walk_octant(kernels, &boxes, &octant, q, &mut stack.0);
             }
@@ -336,7 +359,14 @@ impl Bvh {
             };
             let base = sp;
             for lane in lanes(through) {
-                let entering = kernels.entered8(node, lane, boxes, &octant.near, q.limits()) & active;
+                let (entering, entry) = match &octant.mixed {
+                    None => (
+                        kernels.entered8(node, lane, boxes, &octant.near, q.limits()),
+                        near[lane],
+                    ),
+                    Some(negative) => kernels.entered8_mixed(node, lane, boxes, negative, q.limits()),
+                };
+                let entering = entering & active;
                 if entering == 0 {
                     continue;
                 }
@@ -345,7 +375,7 @@ impl Bvh {
                     stack[sp] = Entry {
                         node: node.child[lane],
                         rays: entering,
-                        near: if Q::ANY_HIT { 0.0 } else { near[lane] },
+                        near: if Q::ANY_HIT { 0.0 } else { entry },
                     };
                     sp += 1;
                     continue;

@@ -4,7 +4,7 @@
 //! every ray is blocked.
 
 use super::octant::ALL;
-use super::packet::{single_ray, PacketQuery, TOGETHER};
+use super::packet::{single_ray, Coherence, PacketQuery, TOGETHER};
 use super::wide::{Kernels, Portable, RayBoxes};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
@@ -50,13 +50,13 @@ impl PacketQuery for Shadow<'_> {
 impl Bvh {
     /// [`Bvh::occluded`] for the rays of `rays` whose bits are set in `active`: the
     /// bits of those with anything on them with `0 < t < t_max[k]` (ray by ray what
-    /// `occluded` answers).
-    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32) -> u32 {
+    /// `occluded` answers). The walk suits rays as `coherence` says they go.
+    pub fn occluded8(&self, rays: &Ray8, t_max: &[f32; 8], active: u32, coherence: Coherence) -> u32 {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx) = self.avx {
-            return avx.occluded8(self, rays, t_max, active);
+            return avx.occluded8(self, rays, t_max, active, coherence);
         }
-        self.occluded8_with(Portable, rays, t_max, active)
+        self.occluded8_with(Portable, rays, t_max, active, coherence)
     }
 
     /// [`Bvh::occluded8`] with the kernels `kernels` (see `closest_hit_with`).
@@ -67,6 +67,7 @@ impl Bvh {
         rays: &Ray8,
         t_max: &[f32; RAYS],
         active: u32,
+        coherence: Coherence,
     ) -> u32 {
         let active = active & ALL;
         if active == 0 {
@@ -79,7 +80,7 @@ impl Bvh {
         };
         self.unbounded_any8(&mut q, active);
         let left = active & !q.blocked;
-        self.walk_packet(kernels, rays, &mut q, left);
+        self.walk_packet(kernels, rays, &mut q, left, coherence);
         q.blocked
     }
 

@@ -196,6 +196,16 @@ pub trait Kernels: Copy {
         near: &[usize; 3],
         limits: &[f32; RAYS],
     ) -> u32;
+    /// As [`PacketBoxes::entered_mixed`] (eight rays of any directions against one
+    /// box).
+    fn entered8_mixed(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        negative: &[[f32; RAYS]; 3],
+        limits: &[f32; RAYS],
+    ) -> (u32, f32);
 }
 
 /// The kernels as the `wide` crate compiles them for the build target.
@@ -238,6 +248,18 @@ impl Kernels for Portable {
         limits: &[f32; RAYS],
     ) -> u32 {
         rays.entered(node, lane, near, limits)
+    }
+
+    #[inline(always)]
+    fn entered8_mixed(
+        self,
+        node: &Node8,
+        lane: usize,
+        rays: &PacketBoxes,
+        negative: &[[f32; RAYS]; 3],
+        limits: &[f32; RAYS],
+    ) -> (u32, f32) {
+        rays.entered_mixed(node, lane, negative, limits)
     }
 }
 

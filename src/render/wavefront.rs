@@ -1,0 +1,129 @@
+//! The path tracer's wavefront: a block of eye samples' paths traced together, one
+//! segment of all of them at a time, their state in queues (after pbrt-v4's
+//! `WavefrontPathIntegrator`, Laine, Karras and Aila's "Megakernels Considered
+//! Harmful" and MoonRay's vectorized path tracing).
+//!
+//! Each round takes the paths still going through the same stages, each stage over
+//! its whole queue:
+//!
+//! ```text
+//! arrive    the segment's closest hit: the background or the emission met,
+//!           absorption on the way; the vertex where the path goes on, if any
+//! light     each vertex's light sample: a shadow ray into the shadow queue
+//! bounce    each vertex's BSDF sample and Russian roulette: the next segment
+//! shadows   the shadow queue's occlusion queries; unblocked samples add their light
+//! extend    the next segments' closest hits
+//! ```
+//!
+//! The eye rays' hits come with the block (the row loop traces them in packets of
+//! neighbouring pixels). Every path takes the very steps of the scalar path tracer
+//! ([`PathTracer::arrive`], [`PathTracer::light_query`],
+//! [`PathTracer::light_result`], [`PathTracer::bounce`]) in the same order, only
+//! interleaved with other paths', so each radiance is bit for bit the scalar
+//! one's: the queues change how the work is batched, never its arithmetic. The
+//! queues hold one block ([`super::rows::BLOCK_PATHS`] paths at most), so a render's
+//! memory per thread is bounded whatever its size and samples.
+
+use super::integrator::{NoRecord, Streams, TraceContext};
+use super::path::{PathState, PathTracer, Scatter, ShadowQuery};
+use super::rows::EyeBlock;
+use crate::accel::{Aggregate, Coherence, Ray8, PACKET};
+use crate::geometry::Hit;
+use crate::math::{Ray, Vec3};
+
+/// One round's queues, reused from round to round.
+#[derive(Default)]
+struct Queues {
+    /// Paths still going, by index into the block, and their segments' hits.
+    active: Vec<(u32, Option<(Hit, u32)>)>,
+    /// Paths at a vertex where they scatter.
+    scatter: Vec<(u32, Scatter)>,
+    /// Light samples waiting for their shadow rays.
+    shadows: Vec<(u32, ShadowQuery)>,
+    /// Whether each shadow ray is blocked.
+    blocked: Vec<bool>,
+    /// Paths going on to a next segment, its ray and its closest hit.
+    next: Vec<u32>,
+    rays: Vec<Ray>,
+    hits: Vec<Option<(Hit, u32)>>,
+}
+
+impl Streams for PathTracer<'_> {
+    fn stream_radiances(&self, block: &EyeBlock, ctx: &mut TraceContext, out: &mut Vec<Vec3>) {
+        let mut paths: Vec<PathState> = block.rays.iter().map(|&eye| PathState::new(eye)).collect();
+        let mut q = Queues::default();
+        q.active
+            .extend((0..paths.len() as u32).zip(block.found.iter().copied()));
+        let accel = self.scene().accel();
+        while !q.active.is_empty() {
+            // arrive
+            for &(i, found) in &q.active {
+                if let Some(at) = self.arrive(&mut paths[i as usize], found, ctx, &mut NoRecord) {
+                    q.scatter.push((i, at));
+                }
+            }
+            q.active.clear();
+            // light
+            for (i, at) in &q.scatter {
+                let i = *i as usize;
+                if let Some(query) = self.light_query(&paths[i], at, &block.ids[i], ctx) {
+                    q.shadows.push((i as u32, query));
+                }
+            }
+            // shadows
+            occluded(accel, &q.shadows, &mut q.blocked);
+            for ((i, query), &blocked) in q.shadows.iter().zip(&q.blocked) {
+                self.light_result(&mut paths[*i as usize], query, blocked, ctx, &mut NoRecord);
+            }
+            q.shadows.clear();
+            // bounce, extend
+            q.next.clear();
+            for (i, at) in &q.scatter {
+                let path = &mut paths[*i as usize];
+                if self.bounce(path, at, &block.ids[*i as usize], ctx, &mut NoRecord) {
+                    q.next.push(*i);
+                }
+            }
+            q.scatter.clear();
+            q.rays.clear();
+            q.rays.extend(q.next.iter().map(|&i| paths[i as usize].ray));
+            closest_hits(accel, &q.rays, &mut q.hits);
+            q.active
+                .extend(q.next.iter().copied().zip(q.hits.iter().copied()));
+        }
+        out.extend(paths.iter().map(|p| p.radiance));
+    }
+}
+
+/// The closest hits of `rays`, eight rays of any directions at a time.
+fn closest_hits(accel: &Aggregate, rays: &[Ray], out: &mut Vec<Option<(Hit, u32)>>) {
+    out.clear();
+    for packet in rays.chunks(PACKET) {
+        let mut hits = [None; PACKET];
+        let active = (1 << packet.len()) - 1;
+        accel.closest_hits8(
+            &Ray8::new(packet),
+            f32::INFINITY,
+            active,
+            Coherence::Mixed,
+            &mut hits,
+        );
+        out.extend_from_slice(&hits[..packet.len()]);
+    }
+}
+
+/// Whether the shadow ray of each of `queries` is blocked, eight rays of any
+/// directions at a time.
+fn occluded(accel: &Aggregate, queries: &[(u32, ShadowQuery)], out: &mut Vec<bool>) {
+    out.clear();
+    for packet in queries.chunks(PACKET) {
+        let mut rays = [packet[0].1.ray; PACKET];
+        let mut t_max = [0.0; PACKET];
+        for (k, (_, query)) in packet.iter().enumerate() {
+            (rays[k], t_max[k]) = (query.ray, query.t_max);
+        }
+        let n = packet.len();
+        let blocked = accel.occluded8(&Ray8::new(&rays[..n]), &t_max, (1 << n) - 1, Coherence::Mixed);
+        out.extend((0..n).map(|k| blocked >> k & 1 != 0));
+    }
+}
