@@ -46,6 +46,18 @@ pub struct Bsdf {
     choice: [f32; 3],
 }
 
+/// A [`Bsdf`] of smooth lobes only ([`Bsdf::smooth_lobes`]): what its samples and
+/// its values are made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothLobes {
+    /// The diffuse albedo `Kd C`.
+    pub diffuse: Vec3,
+    /// The mirror's reflectance `Ks S`.
+    pub mirror: Vec3,
+    /// The probabilities of choosing the diffuse and the mirror lobe.
+    pub choice: [f32; 2],
+}
+
 /// A direction drawn from a [`Bsdf`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BsdfSample {
@@ -133,6 +145,17 @@ impl Bsdf {
             rough: (roughness && m.roughness > 0.0).then(|| TrowbridgeReitz::of_roughness(m.roughness)),
             choice,
         }
+    }
+
+    /// The lobes of a BSDF of smooth diffuse and mirror lobes only (no dielectric,
+    /// no roughness), which the wavefront samples eight paths at a time; `None` for
+    /// any other.
+    pub fn smooth_lobes(&self) -> Option<SmoothLobes> {
+        (self.rough.is_none() && self.choice[2] == 0.0).then_some(SmoothLobes {
+            diffuse: self.diffuse,
+            mirror: self.mirror,
+            choice: [self.choice[0], self.choice[1]],
+        })
     }
 
     /// True if no lobe scatters anything (black and not transmissive).

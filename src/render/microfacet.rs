@@ -140,6 +140,11 @@ impl Frame {
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         self.s * v.x + self.t * v.y + self.n * v.z
     }
+
+    /// The frame's axes: the two tangents and the normal (local `x`, `y`, `z`).
+    pub fn axes(&self) -> [Vec3; 3] {
+        [self.s, self.t, self.n]
+    }
 }
 
 #[cfg(test)]

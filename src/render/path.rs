@@ -24,11 +24,11 @@ use crate::prepare::RenderScene;
 
 /// The first segment at which a path may be ended by Russian roulette (Mitsuba 3's
 /// default `rr_depth`).
-const ROULETTE_FROM: u32 = 5;
+pub(super) const ROULETTE_FROM: u32 = 5;
 
 /// How far short of a sampled light point a shadow ray stops, as a fraction of the
 /// way: the point lies on the emitter's own surface.
-const SHADOW_SHORTFALL: f32 = 1e-4;
+pub(super) const SHADOW_SHORTFALL: f32 = 1e-4;
 
 /// Path tracing of one scene.
 pub struct PathTracer<'a> {
@@ -64,7 +64,7 @@ impl<'a> PathTracer<'a> {
 
 /// Veach's power heuristic for two strategies, `a` the one used.
 #[inline]
-fn power_heuristic(a: f32, b: f32) -> f32 {
+pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 == 0.0 {
         0.0
@@ -114,9 +114,9 @@ pub(super) struct PathState {
     pub throughput: Vec3,
     /// The density of the last BSDF sample, `None` after a perfectly specular one
     /// (or the camera): an emitter it meets then is counted whole.
-    last_pdf: Option<f32>,
+    pub last_pdf: Option<f32>,
     /// The absorption coefficient of the glass the ray travels in, if any.
-    medium: Option<Vec3>,
+    pub medium: Option<Vec3>,
     /// Segments so far (the eye ray is 1).
     pub depth: u32,
 }
@@ -139,17 +139,17 @@ impl PathState {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Scatter {
     /// The shading frame.
-    frame: Frame,
+    pub frame: Frame,
     /// Towards where the path came from, in the frame.
-    wo: Vec3,
+    pub wo: Vec3,
     /// Points off the surface on the incoming side and on the far side.
-    sides: [Vec3; 2],
+    pub sides: [Vec3; 2],
     /// The geometric normal facing the incoming ray.
-    n: Vec3,
+    pub n: Vec3,
     /// The material's index.
     pub material: u32,
     /// True if the segment crosses into the object.
-    entering: bool,
+    pub entering: bool,
 }
 
 /// A light sample's shadow ray, still to be tested, and what it adds unless blocked.
@@ -160,15 +160,15 @@ pub(super) struct ShadowQuery {
     /// Blockers count below this distance along it.
     pub t_max: f32,
     /// The light's point.
-    point: Vec3,
+    pub point: Vec3,
     /// `f cos Li / pdf`, weighted: the light sample's contribution before the
     /// path's throughput.
-    contribution: Vec3,
+    pub contribution: Vec3,
     /// Its multiple-importance weight.
-    weight: f32,
+    pub weight: f32,
     /// The path's throughput times `contribution`: what the radiance gains unless
     /// the ray is blocked.
-    gain: Vec3,
+    pub gain: Vec3,
 }
 
 impl PathTracer<'_> {
@@ -270,7 +270,7 @@ impl PathTracer<'_> {
 
     /// The BSDF of material `material` seen from outside (`entering`) or inside.
     #[inline(always)]
-    fn bsdf(&self, material: u32, entering: bool) -> &Bsdf {
+    pub(super) fn bsdf(&self, material: u32, entering: bool) -> &Bsdf {
         &self.bsdfs[material as usize][usize::from(entering)]
     }
 

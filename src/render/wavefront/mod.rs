@@ -24,6 +24,13 @@
 //! queues hold one block ([`super::rows::BLOCK_PATHS`] paths at most), so a render's
 //! memory per thread is bounded whatever its size and samples.
 
+mod lanes;
+mod smooth;
+
+use lanes::LANES;
+use smooth::Vertices8;
+
+use super::bsdf::SmoothLobes;
 use super::integrator::{NoRecord, Streams, TraceContext};
 use super::path::{PathState, PathTracer, Scatter, ShadowQuery};
 use super::rows::EyeBlock;
@@ -36,8 +43,9 @@ use crate::math::{Ray, Vec3};
 struct Queues {
     /// Paths still going, by index into the block, and their segments' hits.
     active: Vec<(u32, Option<(Hit, u32)>)>,
-    /// Paths at a vertex where they scatter.
+    /// Paths at a vertex where they scatter, as they arrive and grouped by material.
     scatter: Vec<(u32, Scatter)>,
+    sorted: Vec<(u32, Scatter)>,
     /// Light samples waiting for their shadow rays.
     shadows: Vec<(u32, ShadowQuery)>,
     /// Whether each shadow ray is blocked.
@@ -63,11 +71,29 @@ impl Streams for PathTracer<'_> {
                 }
             }
             q.active.clear();
+            // Vertices grouped by material (and side), for eight-lane shading.
+            sort_by_material(&mut q.scatter, &mut q.sorted);
             // light
-            for (i, at) in &q.scatter {
-                let i = *i as usize;
-                if let Some(query) = self.light_query(&paths[i], at, &block.ids[i], ctx) {
-                    q.shadows.push((i as u32, query));
+            for group in groups(&q.sorted) {
+                match self.smooth_lobes(group) {
+                    Some(lobes) => {
+                        for at in group.chunks(LANES) {
+                            let v = Vertices8 {
+                                at,
+                                ids: &block.ids,
+                                lobes,
+                            };
+                            self.light_queries8(&v, &paths, ctx, &mut q.shadows);
+                        }
+                    }
+                    None => {
+                        for (i, at) in group {
+                            let i = *i as usize;
+                            if let Some(query) = self.light_query(&paths[i], at, &block.ids[i], ctx) {
+                                q.shadows.push((i as u32, query));
+                            }
+                        }
+                    }
                 }
             }
             // shadows
@@ -76,15 +102,31 @@ impl Streams for PathTracer<'_> {
                 self.light_result(&mut paths[*i as usize], query, blocked, ctx, &mut NoRecord);
             }
             q.shadows.clear();
-            // bounce, extend
+            // bounce
             q.next.clear();
-            for (i, at) in &q.scatter {
-                let path = &mut paths[*i as usize];
-                if self.bounce(path, at, &block.ids[*i as usize], ctx, &mut NoRecord) {
-                    q.next.push(*i);
+            for group in groups(&q.sorted) {
+                match self.smooth_lobes(group) {
+                    Some(lobes) => {
+                        for at in group.chunks(LANES) {
+                            let v = Vertices8 {
+                                at,
+                                ids: &block.ids,
+                                lobes,
+                            };
+                            self.bounces8(&v, &mut paths, ctx, &mut q.next);
+                        }
+                    }
+                    None => {
+                        for (i, at) in group {
+                            let path = &mut paths[*i as usize];
+                            if self.bounce(path, at, &block.ids[*i as usize], ctx, &mut NoRecord) {
+                                q.next.push(*i);
+                            }
+                        }
+                    }
                 }
             }
-            q.scatter.clear();
+            // extend
             q.rays.clear();
             q.rays.extend(q.next.iter().map(|&i| paths[i as usize].ray));
             closest_hits(accel, &q.rays, &mut q.hits);
@@ -93,6 +135,53 @@ impl Streams for PathTracer<'_> {
         }
         out.extend(paths.iter().map(|p| p.radiance));
     }
+}
+
+impl PathTracer<'_> {
+    /// The smooth lobes of the material of a group of vertices (one material, one
+    /// side), if it has only smooth diffuse and mirror lobes.
+    fn smooth_lobes(&self, group: &[(u32, Scatter)]) -> Option<SmoothLobes> {
+        let at = &group.first()?.1;
+        self.bsdf(at.material, at.entering).smooth_lobes()
+    }
+}
+
+/// The key vertices are grouped by: their material, and the side it is met from.
+#[inline(always)]
+fn material_key(at: &Scatter) -> usize {
+    2 * at.material as usize + usize::from(at.entering)
+}
+
+/// `scatter` into `sorted` by material and side (a stable counting sort), emptying
+/// `scatter`.
+fn sort_by_material(scatter: &mut Vec<(u32, Scatter)>, sorted: &mut Vec<(u32, Scatter)>) {
+    sorted.clear();
+    let Some(&fill) = scatter.first() else {
+        return;
+    };
+    let keys = scatter
+        .iter()
+        .map(|(_, at)| material_key(at))
+        .max()
+        .map_or(0, |k| k + 1);
+    let mut starts = vec![0usize; keys + 1];
+    for (_, at) in scatter.iter() {
+        starts[material_key(at) + 1] += 1;
+    }
+    for k in 1..=keys {
+        starts[k] += starts[k - 1];
+    }
+    sorted.resize(scatter.len(), fill);
+    for entry in scatter.drain(..) {
+        let key = material_key(&entry.1);
+        sorted[starts[key]] = entry;
+        starts[key] += 1;
+    }
+}
+
+/// The runs of vertices of one material and side in `sorted`.
+fn groups(sorted: &[(u32, Scatter)]) -> impl Iterator<Item = &[(u32, Scatter)]> {
+    sorted.chunk_by(|a, b| material_key(&a.1) == material_key(&b.1))
 }
 
 /// The closest hits of `rays`, eight rays of any directions at a time.
