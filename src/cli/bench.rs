@@ -15,7 +15,7 @@ use super::output::brief;
 use super::render::render_error;
 use super::values::{self, whole_number};
 use super::CliError;
-use nffrt::accel::{Aggregate, Bvh, QueryCounts, PACKET};
+use nffrt::accel::{Aggregate, Bvh, Coherence, QueryCounts, Ray8, PACKET};
 use nffrt::geometry::build_geometry;
 use nffrt::image::Region;
 use nffrt::limits::MAX_THREADS;
@@ -266,21 +266,33 @@ fn time_structure(
     summary.push(format!("{prefix}{name}_best_mrays={:.3}", closest.best_mrays));
     summary.push(format!("{prefix}{name}_occl_best_mrays={:.3}", occl.best_mrays));
     if kind == Accel::Bvh {
-        let packets = time_packets(pool, rays, repeat, structure.bvh());
-        outln!(
-            "{:>8}  packets of {PACKET} consecutive rays: closest hit {:.2} Mrays/s (best {:.2}), {}",
-            "",
-            packets.median_mrays,
-            packets.best_mrays,
-            count(packets.hits, "hit", "hits")
-        );
-        if packets.hits != closest.hits {
-            return Err(CliError::io(format!(
-                "{name} rays: packets found {} hits, single rays {}: a traversal bug",
-                packets.hits, closest.hits
-            )));
+        for coherence in [Coherence::Coherent, Coherence::Mixed] {
+            let (walk, key) = match coherence {
+                Coherence::Coherent => ("coherent walk", "packet"),
+                Coherence::Mixed => ("mixed walk", "mixed_packet"),
+            };
+            let packets = time_packets(pool, rays, repeat, structure.bvh(), coherence);
+            let blocked = time_packets_occlusion(pool, rays, repeat, structure.bvh(), coherence);
+            outln!(
+                "{:>8}  packets of {PACKET} consecutive rays, {walk}: closest hit {:.2} Mrays/s (best {:.2}), {}; \
+                 occlusion {:.2} Mrays/s (best {:.2})",
+                "",
+                packets.median_mrays,
+                packets.best_mrays,
+                count(packets.hits, "hit", "hits"),
+                blocked.median_mrays,
+                blocked.best_mrays,
+            );
+            if packets.hits != closest.hits || blocked.hits != occl.hits {
+                return Err(CliError::io(format!(
+                    "{name} rays: packets ({walk}) found {} hits and {} blockers, single rays {} and {}: \
+                     a traversal bug",
+                    packets.hits, blocked.hits, closest.hits, occl.hits
+                )));
+            }
+            summary.push(format!("{name}_{key}_mrays={:.3}", packets.median_mrays));
+            summary.push(format!("{name}_{key}_occl_mrays={:.3}", blocked.median_mrays));
         }
-        summary.push(format!("{name}_packet_mrays={:.3}", packets.median_mrays));
     }
     summary.push(format!("{prefix}{name}_hits={}", closest.hits));
     Ok(Row {
@@ -417,18 +429,45 @@ fn time_query(
     time_passes(rays.len(), repeat, pass)
 }
 
-/// [`time_query`] for closest hits traced [`PACKET`] consecutive rays at a time.
-fn time_packets(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, bvh: &Bvh) -> Timing {
+/// [`time_query`] for closest hits traced [`PACKET`] consecutive rays at a time,
+/// with the walk `coherence` names.
+fn time_packets(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, bvh: &Bvh, coherence: Coherence) -> Timing {
     let pass = || -> usize {
         pool.install(|| {
             rays.par_chunks(4096)
                 .map(|c| {
-                    let mut out = [None; PACKET];
                     c.chunks(PACKET)
                         .map(|packet| {
-                            let out = &mut out[..packet.len()];
-                            bvh.closest_hit_packet(packet, f32::INFINITY, out);
+                            let mut out = [None; PACKET];
+                            let active = (1 << packet.len()) - 1;
+                            bvh.closest_hits8(&Ray8::new(packet), f32::INFINITY, active, coherence, &mut out);
                             out.iter().filter(|h| h.is_some()).count()
+                        })
+                        .sum::<usize>()
+                })
+                .sum::<usize>()
+        })
+    };
+    time_passes(rays.len(), repeat, pass)
+}
+
+/// [`time_packets`] for occlusion queries.
+fn time_packets_occlusion(
+    pool: &rayon::ThreadPool,
+    rays: &[Ray],
+    repeat: u32,
+    bvh: &Bvh,
+    coherence: Coherence,
+) -> Timing {
+    let pass = || -> usize {
+        pool.install(|| {
+            rays.par_chunks(4096)
+                .map(|c| {
+                    c.chunks(PACKET)
+                        .map(|packet| {
+                            let active = (1 << packet.len()) - 1;
+                            let limits = [f32::INFINITY; PACKET];
+                            bvh.occluded8(&Ray8::new(packet), &limits, active, coherence).count_ones() as usize
                         })
                         .sum::<usize>()
                 })

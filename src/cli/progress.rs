@@ -9,7 +9,7 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::interrupt;
-use nffrt::render::Observer;
+use nffrt::render::{Observer, StageStats};
 use nffrt::words::count;
 
 /// How progress is shown on standard error.
@@ -33,6 +33,8 @@ pub struct Progress {
     tenths_shown: Mutex<u64>,
     rays: AtomicU64,
     start: Instant,
+    /// What the path tracer's stages did, summed over the rows.
+    stages: Mutex<StageStats>,
 }
 
 impl Progress {
@@ -58,7 +60,13 @@ impl Progress {
             tenths_shown: Mutex::new(0),
             rays: AtomicU64::new(0),
             start: Instant::now(),
+            stages: Mutex::new(StageStats::default()),
         }
+    }
+
+    /// What the path tracer's wavefront stages did over the rows done.
+    pub fn stages(&self) -> StageStats {
+        self.stages.lock().map(|s| *s).unwrap_or_default()
     }
 
     /// Removes the bar from the terminal.
@@ -91,6 +99,12 @@ impl Progress {
 }
 
 impl Observer for Progress {
+    fn row_stages(&self, stages: &StageStats) {
+        if let Ok(mut sum) = self.stages.lock() {
+            *sum += *stages;
+        }
+    }
+
     fn row_done(&self, rays: u64) {
         let total = self.rays.fetch_add(rays, Ordering::Relaxed) + rays;
         let rows_done = self.rows_done.fetch_add(1, Ordering::Relaxed) + 1;

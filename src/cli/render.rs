@@ -316,6 +316,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         [load_s, loaded.parse_s, build_s, render_s],
     );
     report.skybox_decode_s = skybox.then(|| scene.background().decode_seconds());
+    report.stages = stats::StagesReport::of(&progress.stages());
     if let (Some(mut out), Some(path)) = (stats_out.take(), stats_file) {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;

@@ -12,7 +12,7 @@ use nffrt::accel::QueryCounts;
 use nffrt::image::Region;
 use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::RenderScene;
-use nffrt::render::{Camera, Stats};
+use nffrt::render::{Camera, Stage, StageStats, Stats};
 use nffrt::scene::{Accel, SceneInfo};
 use nffrt::words::shortest_f64;
 
@@ -194,6 +194,97 @@ pub struct StatsReport {
     /// the render, on a thread of their own or by the rays that needed them).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skybox_decode_s: Option<f64>,
+    /// The path tracer's wavefront stages (see [`StagesReport`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stages: Option<StagesReport>,
+}
+
+/// What the path tracer's wavefront stages did: per stage its items (rays for the
+/// queries, vertices for shading), CPU seconds summed over the threads, and items
+/// per CPU second; how many rounds; how full the eight-lane shading ran.
+#[derive(Serialize)]
+pub struct StagesReport {
+    /// Per stage, in order.
+    pub stages: Vec<StageReport>,
+    /// Rounds of the wavefront, summed over its blocks.
+    pub rounds: u64,
+    /// Of the vertices shaded, the share shaded eight lanes at a time.
+    pub lanes_share: f64,
+    /// Of the lanes of the eight-lane calls, the share filled.
+    pub lanes_full: f64,
+}
+
+/// One stage of [`StagesReport`].
+#[derive(Serialize)]
+pub struct StageReport {
+    /// `camera`, `arrive`, `light`, `shadows`, `bounce` or `extend`.
+    pub stage: &'static str,
+    /// Rays or vertices through it.
+    pub items: u64,
+    /// CPU seconds, summed over the threads.
+    pub cpu_s: f64,
+    /// Millions of items per CPU second.
+    pub m_per_s: f64,
+}
+
+impl StagesReport {
+    /// The report of `s`, or `None` if no stage ran.
+    pub fn of(s: &StageStats) -> Option<StagesReport> {
+        if s.is_empty() {
+            return None;
+        }
+        let stages = Stage::ALL
+            .iter()
+            .map(|&stage| {
+                let (items, nanos) = s.stages[stage as usize];
+                let cpu_s = nanos as f64 * 1e-9;
+                StageReport {
+                    stage: stage.name(),
+                    items,
+                    cpu_s,
+                    m_per_s: items as f64 / cpu_s.max(1e-12) / 1e6,
+                }
+            })
+            .collect();
+        let shaded = s.stages[Stage::Bounce as usize].0;
+        Some(StagesReport {
+            stages,
+            rounds: s.rounds,
+            lanes_share: s.lanes_filled as f64 / shaded.max(1) as f64,
+            lanes_full: s.lanes_filled as f64 / (8 * s.lane_calls).max(1) as f64,
+        })
+    }
+
+    fn lines(&self) -> Vec<String> {
+        let total: f64 = self.stages.iter().map(|s| s.cpu_s).sum();
+        let mut lines = vec![line(
+            "wavefront",
+            &format!(
+                "{} rounds; {:.0} % of the vertices shaded in lanes, lanes {:.0} % full",
+                self.rounds,
+                100.0 * self.lanes_share,
+                100.0 * self.lanes_full
+            ),
+        )];
+        for s in &self.stages {
+            lines.push(line(
+                &format!("  {}", s.stage),
+                &format!(
+                    "{} {}, {:.3} s CPU ({:.0} %), {:.2} M/s",
+                    s.items,
+                    if matches!(s.stage, "arrive" | "light" | "bounce") {
+                        "vertices"
+                    } else {
+                        "rays"
+                    },
+                    s.cpu_s,
+                    100.0 * s.cpu_s / total.max(1e-12),
+                    s.m_per_s
+                ),
+            ));
+        }
+        lines
+    }
 }
 
 impl StatsReport {
@@ -218,6 +309,7 @@ impl StatsReport {
             render_s,
             mrays_per_s: rays.total_rays() as f64 / render_s.max(1e-9) / 1e6,
             skybox_decode_s: None,
+            stages: None,
         }
     }
 
@@ -265,6 +357,9 @@ impl StatsReport {
                 "skybox decode",
                 &format!("{seconds:.3} s of CPU during the build and render"),
             ));
+        }
+        if let Some(stages) = &self.stages {
+            lines.extend(stages.lines());
         }
         lines.join("\n")
     }

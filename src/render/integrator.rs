@@ -21,7 +21,7 @@ use super::light::LightSampling;
 use super::path::PathTracer;
 use super::rows::EyeBlock;
 use super::shade::{Branch, P3fRules, SpdRules};
-use super::stats::Stats;
+use super::stats::{StageStats, Stats};
 use super::whitted::Whitted;
 use crate::accel::NO_HINT;
 use crate::geometry::{Hit, Primitive};
@@ -186,6 +186,8 @@ pub const HINT_DEPTHS: usize = 8;
 pub struct TraceContext {
     /// Ray counts.
     pub stats: Stats,
+    /// The wavefront's stages: their work and time (reported, not rendered).
+    pub stages: StageStats,
     /// Shadow cache (Haines): per light and depth, the primitive or leaf block of four
     /// that last blocked a shadow ray (`Bvh::occluded_hinted`). It only changes what
     /// is tested first, never an answer.
@@ -200,6 +202,7 @@ impl Default for TraceContext {
     fn default() -> Self {
         TraceContext {
             stats: Stats::default(),
+            stages: StageStats::default(),
             hints: [const { Cell::new(NO_HINT) }; HINT_LIGHTS * HINT_DEPTHS],
             eye_shadows_cached: 0,
         }

@@ -42,7 +42,7 @@ pub use progressive::{render_preview, Accumulator};
 pub use rows::{EyeBlock, RowTracer, BLOCK_PATHS};
 pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
 pub use shade::{Branch, Facets, P3fRules, Rules, SpdRules};
-pub use stats::Stats;
+pub use stats::{Stage, StageStats, Stats};
 
 use rayon::prelude::*;
 
@@ -63,6 +63,9 @@ pub trait Observer: Sync {
     /// image will hold (for [`Sampling::SpdCorners`], once the corners around it
     /// are traced).
     fn row_pixels(&self, _y: u32, _pixels: &[Vec3]) {}
+    /// Called after each finished row with what the path tracer's wavefront stages
+    /// did for it (nothing for other integrators).
+    fn row_stages(&self, _stages: &StageStats) {}
     /// Polled between rows: returning true abandons the render.
     fn cancelled(&self) -> bool {
         false

@@ -11,13 +11,14 @@
 //! coordinates, so images are the same whatever the thread count or the tiling.
 
 use std::ops::Range;
+use std::time::Instant;
 
 use rayon::prelude::*;
 
 use super::camera::{Camera, CameraSample};
 use super::integrator::{ChosenIntegrator, Integrator, Recorder, Streams, TraceContext};
 use super::sampling::{PixelSampler, PixelSeeds, SampleId};
-use super::{Observer, Stats};
+use super::{Observer, Stage, Stats};
 use crate::accel::{Coherence, Ray8, PACKET};
 use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
@@ -98,9 +99,11 @@ impl<'a> RowTracer<'a> {
             while k0 < samples.end {
                 let k1 = samples.end.min(k0.saturating_add(per_block));
                 block.clear();
+                let start = Instant::now();
                 for k in k0..k1 {
                     self.eye_rays(&pixels, k, &mut block, ctx);
                 }
+                ctx.stages.add(Stage::Camera, block.len(), start);
                 radiances.clear();
                 self.integrator.stream_radiances(&block, ctx, &mut radiances);
                 // Sample by sample, each pixel's in order.
@@ -303,6 +306,9 @@ pub fn each_row(
             }
             let mut ctx = TraceContext::default();
             row(j as u32, place, &mut ctx);
+            if !ctx.stages.is_empty() {
+                observer.row_stages(&ctx.stages);
+            }
             observer.row_done(ctx.stats.total_rays());
             Some(ctx.stats)
         })

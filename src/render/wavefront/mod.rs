@@ -24,6 +24,8 @@
 //! queues hold one block ([`super::rows::BLOCK_PATHS`] paths at most), so a render's
 //! memory per thread is bounded whatever its size and samples.
 
+use std::time::Instant;
+
 mod lanes;
 mod smooth;
 
@@ -34,6 +36,7 @@ use super::bsdf::SmoothLobes;
 use super::integrator::{NoRecord, Streams, TraceContext};
 use super::path::{PathState, PathTracer, Scatter, ShadowQuery};
 use super::rows::EyeBlock;
+use super::stats::Stage;
 use crate::accel::{Aggregate, Coherence, Ray8, PACKET};
 use crate::geometry::Hit;
 use crate::math::{Ray, Vec3};
@@ -64,7 +67,10 @@ impl Streams for PathTracer<'_> {
             .extend((0..paths.len() as u32).zip(block.found.iter().copied()));
         let accel = self.scene().accel();
         while !q.active.is_empty() {
+            ctx.stages.rounds += 1;
+            let mut clock = Instant::now();
             // arrive
+            let arriving = q.active.len();
             for &(i, found) in &q.active {
                 if let Some(at) = self.arrive(&mut paths[i as usize], found, ctx, &mut NoRecord) {
                     q.scatter.push((i, at));
@@ -73,6 +79,7 @@ impl Streams for PathTracer<'_> {
             q.active.clear();
             // Vertices grouped by material (and side), for eight-lane shading.
             sort_by_material(&mut q.scatter, &mut q.sorted);
+            clock = ctx.stages.add(Stage::Arrive, arriving, clock);
             // light
             for group in groups(&q.sorted) {
                 match self.smooth_lobes(group) {
@@ -96,11 +103,13 @@ impl Streams for PathTracer<'_> {
                     }
                 }
             }
+            clock = ctx.stages.add(Stage::Light, q.sorted.len(), clock);
             // shadows
             occluded(accel, &q.shadows, &mut q.blocked);
             for ((i, query), &blocked) in q.shadows.iter().zip(&q.blocked) {
                 self.light_result(&mut paths[*i as usize], query, blocked, ctx, &mut NoRecord);
             }
+            clock = ctx.stages.add(Stage::Shadows, q.shadows.len(), clock);
             q.shadows.clear();
             // bounce
             q.next.clear();
@@ -126,12 +135,14 @@ impl Streams for PathTracer<'_> {
                     }
                 }
             }
+            clock = ctx.stages.add(Stage::Bounce, q.sorted.len(), clock);
             // extend
             q.rays.clear();
             q.rays.extend(q.next.iter().map(|&i| paths[i as usize].ray));
             closest_hits(accel, &q.rays, &mut q.hits);
             q.active
                 .extend(q.next.iter().copied().zip(q.hits.iter().copied()));
+            ctx.stages.add(Stage::Extend, q.rays.len(), clock);
         }
         out.extend(paths.iter().map(|p| p.radiance));
     }

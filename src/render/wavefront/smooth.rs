@@ -161,6 +161,8 @@ impl PathTracer<'_> {
         next: &mut Vec<u32>,
     ) {
         let n = v.len();
+        ctx.stages.lane_calls += 1;
+        ctx.stages.lanes_filled += n as u64;
         let [pd, pm] = v.lobes.choice;
         let needs_lobe = !matches!(v.lobes.choice, [1.0, 0.0] | [0.0, 1.0]);
         let depth = paths[v.at[0].0 as usize].depth;
