@@ -39,7 +39,10 @@ fn info_reports_the_animation() {
     assert_eq!(aff["objects"]["polygons"].as_u64(), Some(1));
     let out = nffrt(&["info", main.to_str().unwrap()], b"");
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("animation   5 frames, time 0 to 2"), "{text}");
+    assert!(
+        text.contains("animation   5 frames from time 0 to 2, 0.4 apart"),
+        "{text}"
+    );
     assert!(text.contains("format      aff"), "{text}");
 }
 

@@ -147,7 +147,7 @@ fn keyframes_may_come_from_another_file_than_their_transform() {
         &[
             (
                 "main.aff",
-                &format!("{HEAD}a 0 1 2\nx slide {{ s 0 0 0 1 }}\ni 0 keys.aff\n"),
+                &format!("{HEAD}a 0 2 2\nx slide {{ s 0 0 0 1 }}\ni 0 keys.aff\n"),
             ),
             ("keys.aff", keys),
         ],

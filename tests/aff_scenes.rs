@@ -34,10 +34,10 @@ fn kitchen_loads_and_moves() {
     let Some((frame0, aff)) = bart("kitchen/aff/kitchen.aff") else {
         return;
     };
-    // a 0.0 20.0 800.
+    // a 0.0 20.0 800: frames 1/40 apart.
     assert_eq!(
-        (aff.frames(), aff.time_of_frame(0), aff.time_of_frame(799)),
-        (800, 0.0, 20.0)
+        (aff.frames(), aff.time_of_frame(0), aff.time_of_frame(400)),
+        (800, 0.0, 10.0)
     );
     assert!(aff.warnings.is_empty(), "{:?}", aff.warnings);
     assert_eq!(aff.textures.len(), 8);
@@ -55,7 +55,7 @@ fn robots_load_and_walk() {
     let Some((frame0, aff)) = bart("robot/aff/Robot.aff") else {
         return;
     };
-    assert_eq!((aff.frames(), aff.time_of_frame(799)), (800, 50.0));
+    assert_eq!((aff.frames(), aff.time_of_frame(400)), (800, 25.0));
     // Camera keys: (-3.5, 2, -203) at t = 0, (0.25, 16, -162.6) at 8.4.
     assert!(close(aff.camera_at(0.0).from, Vec3::new(-3.5, 2.0, -203.0)));
     assert!(close(aff.camera_at(8.4).from, Vec3::new(0.25, 16.0, -162.6)));

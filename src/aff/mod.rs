@@ -14,7 +14,7 @@
 //! la NAME x y z [r g b]                   a light that keyframes 'k NAME' move
 //! fm ar ag ab dr dg db sr sg sb shine T ior   extended material
 //! am r g b                                ambient light (default 1 1 1)
-//! a START END FRAMES                      animation span (frame 0 at START, the last at END)
+//! a START END FRAMES                      animation span: frame n at START + n (END - START) / FRAMES
 //! i DETAIL FILE                           include FILE (from this file's folder)
 //! d DETAIL                                detail level: includes above it are skipped
 //! m vertices N ... [normals N ...] [texturecoords N TEX.ppm ...] triangles N ...   mesh
@@ -28,12 +28,12 @@
 //! ```
 //! let scene = nffrt::aff::parse_text(
 //!     "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 8 8\n\
-//!      a 0 1 11\n\
+//!      a 0 1 10\n\
 //!      x spin { p 3 0 0 0 1 0 0 0 1 0 }\n\
 //!      k spin { rot 4  -1 0 0 1 0 0 0 0  0 0 0 1 0 0 0 0  1 0 0 1 90 0 0 0  2 0 0 1 90 0 0 0 }\n",
 //! ).unwrap();
-//! assert_eq!(scene.frames(), 11);
-//! let last = scene.flatten(scene.time_of_frame(10)).unwrap();
+//! assert_eq!((scene.frames(), scene.time_of_frame(5)), (10, 0.5));
+//! let last = scene.flatten(1.0).unwrap();
 //! // At time 1 the triangle has turned 90 degrees about z: (1, 0, 0) is at (0, 1, 0).
 //! let v = last.polygon_vertices[1];
 //! assert!(v.x.abs() < 1e-6 && (v.y - 1.0).abs() < 1e-6);

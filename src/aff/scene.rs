@@ -202,7 +202,7 @@ pub struct Texture {
     pub at: Location,
 }
 
-/// `a START END FRAMES`: the animation runs from `start` to `end` in `frames` frames.
+/// `a START END FRAMES`: the animation runs from `start` to `end` in `frames` steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AnimationSpan {
     /// The time of the first frame.
@@ -216,15 +216,19 @@ pub struct AnimationSpan {
 }
 
 impl AnimationSpan {
-    /// The time of frame `n`: `start + n (end - start) / (frames - 1)` (the step of
-    /// the original's documentation, so that the last frame shows `end`), `start`
-    /// for a single frame. Frames past the last continue at the same step.
+    /// The time between two frames: `(end - start) / frames`.
+    pub fn step(&self) -> f64 {
+        (self.end as f64 - self.start as f64) / self.frames as f64
+    }
+
+    /// The time of frame `n`: `start + n (end - start) / frames`. The original
+    /// renderer steps so and numbers its pictures from 1 (its picture `n` shows
+    /// this time, `end` the last); nffrt numbers frames from 0, at `start`, so
+    /// that frame `n` is the original's picture `n`. (The format's comment says
+    /// `(end - start) / (frames - 1)`; the pictures distributed with BART follow
+    /// the code: docs/aff.md.) Frames past the last continue at the same step.
     pub fn time_of_frame(&self, n: u32) -> f64 {
-        if self.frames <= 1 {
-            return self.start as f64;
-        }
-        let step = (self.end as f64 - self.start as f64) / (self.frames - 1) as f64;
-        self.start as f64 + n as f64 * step
+        self.start as f64 + n as f64 * self.step()
     }
 }
 

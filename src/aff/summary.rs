@@ -43,8 +43,10 @@ impl ObjectCounts {
 pub struct AffSummary {
     /// Frames of the animation (1 for a still scene).
     pub frames: u32,
-    /// The times of the first and the last frame.
+    /// `a START END` (0 and 0 for a still scene).
     pub time_span: [f32; 2],
+    /// The time between two frames (0 for a still scene).
+    pub frame_step: f64,
     /// Files read (the top one and each included one once).
     pub files: usize,
     /// Includes followed (a file included twice counts twice).
@@ -108,7 +110,8 @@ impl AffScene {
         let count = |f: fn(&NodeTransform) -> bool| self.nodes.iter().filter(|n| f(&n.transform)).count();
         AffSummary {
             frames: self.frames(),
-            time_span: [0, self.frames() - 1].map(|n| self.time_of_frame(n) as f32),
+            time_span: self.span.map_or([0.0; 2], |s| [s.start, s.end]),
+            frame_step: self.span.map_or(0.0, |s| s.step()),
             files: self.files.len(),
             inclusions: self.inclusions,
             skipped_inclusions: self.skipped_inclusions,

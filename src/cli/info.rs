@@ -307,8 +307,9 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
 fn print_aff(a: &AffSummary) {
     let [start, end] = a.time_span;
     outln!(
-        "animation   {}, time {start} to {end} (the rest: frame 0, at time {start})",
-        count(a.frames, "frame", "frames")
+        "animation   {} from time {start} to {end}, {} apart (the rest: frame 0, at time {start})",
+        count(a.frames, "frame", "frames"),
+        a.frame_step
     );
     outln!(
         "files       {} read, {} followed{}",

@@ -10,7 +10,8 @@ fn close(a: Vec3, b: Vec3) -> bool {
 
 /// An outer block (scale 2, 90° about z, then (1, 0, 0)) holding an inner one
 /// (translate (0, 1, 0)) with a triangle, and a keyframed one with a sphere whose
-/// keys move it along x: 0 at t = 0, 3 at t = 1 (Catmull-Rom: 1.5 halfway).
+/// keys move it along x: 0 at t = 0, 3 at t = 1 (Catmull-Rom: 1.5 halfway); three
+/// frames a time unit apart.
 const NESTED: &str = "\
 xs 2 2 2  0 0 1 90  1 0 0
 {
@@ -23,7 +24,7 @@ xs 2 2 2  0 0 1 90  1 0 0
     s 1 0 0 0.5
   }
 }
-a 0 2 3
+a 0 3 3
 k mover
 {
   transl 4
@@ -158,12 +159,14 @@ fn meshes_are_placed_by_their_node() {
 }
 
 #[test]
-fn the_span_maps_frames_to_times_with_both_ends_shown() {
-    // a -1 5 300: step (5 - -1) / 299; frame 299 at 5.
+fn the_span_maps_frames_to_times_as_the_original_renderer() {
+    // a -1 5 300: step (5 - -1) / 300 = 0.02; frame 299 at 4.98, frame 300 (the
+    // original's last picture) at 5.
     let s = scene("a -1 5 300\n");
     assert_eq!(s.time_of_frame(0), -1.0);
-    assert!((s.time_of_frame(299) - 5.0).abs() < 1e-12);
-    assert!((s.time_of_frame(1) - (-1.0 + 6.0 / 299.0)).abs() < 1e-12);
+    assert!((s.time_of_frame(1) - -0.98).abs() < 1e-12);
+    assert!((s.time_of_frame(299) - 4.98).abs() < 1e-12);
+    assert!((s.time_of_frame(300) - 5.0).abs() < 1e-12);
     let still = scene("");
     assert_eq!((still.frames(), still.time_of_frame(0)), (1, 0.0));
 }
