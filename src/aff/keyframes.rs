@@ -8,8 +8,41 @@ use super::scene::{AnimatedTriangle, Track, TriangleKey, VisibilityKey};
 use super::spline::{PositionKey, PositionSpline, RotationKey, RotationSpline, Tcb};
 use crate::nff::{parse_f32, ParseError, Token};
 
-/// The kinds of curve in a keyframe block, as written.
-const CURVES: [&str; 4] = ["transl", "rot", "scale", "visibility"];
+/// A kind of curve in a keyframe block and the names of its numbers in messages
+/// (written once: a block may hold thousands of keys).
+struct Curve {
+    /// As written.
+    name: &'static str,
+    /// A key's time.
+    time: &'static str,
+    /// A key's value (`transl`, `scale`).
+    value: &'static str,
+    /// A key's tension, continuity and bias.
+    tcb: [&'static str; 3],
+}
+
+macro_rules! curve {
+    ($name:literal) => {
+        Curve {
+            name: $name,
+            time: concat!("'", $name, "' key time"),
+            value: concat!("'", $name, "' key x y z"),
+            tcb: [
+                concat!("'", $name, "' key tension"),
+                concat!("'", $name, "' key continuity"),
+                concat!("'", $name, "' key bias"),
+            ],
+        }
+    };
+}
+
+/// The kinds of curve, in the order of [`Track`]'s fields.
+const CURVES: [Curve; 4] = [
+    curve!("transl"),
+    curve!("rot"),
+    curve!("scale"),
+    curve!("visibility"),
+];
 
 /// The curves' keys need this many keys (the first and last only shape tangents).
 const MIN_SPLINE_KEYS: u32 = 4;
@@ -42,7 +75,7 @@ impl FileParser<'_, '_, '_> {
             let tok = self.p.next_token();
             let kind = match tok {
                 Some(t) if t.text == b"}" => break,
-                Some(t) => CURVES.iter().position(|c| c.as_bytes() == t.text),
+                Some(t) => CURVES.iter().position(|c| c.name.as_bytes() == t.text),
                 None => None,
             };
             let (Some(kind), Some(t)) = (kind, tok) else {
@@ -54,21 +87,22 @@ impl FileParser<'_, '_, '_> {
             if std::mem::replace(&mut seen[kind], true) {
                 return Err(invalid(
                     loc(&t),
-                    format!("a second '{}' in one keyframe block", CURVES[kind]),
+                    format!("a second '{}' in one keyframe block", CURVES[kind].name),
                 )
                 .into());
             }
-            let (n, n_at) = self.p.count(&format!("the number of '{}' keys", CURVES[kind]))?;
+            let curve = &CURVES[kind];
+            let (n, n_at) = self.p.count(&format!("the number of '{}' keys", curve.name))?;
             if kind != 3 && n < MIN_SPLINE_KEYS {
                 let message = format!(
                     "'{}' needs at least {MIN_SPLINE_KEYS} keys (the first and the last only shape the curve), not {n}",
-                    CURVES[kind]
+                    curve.name
                 );
                 return Err(invalid(n_at, message).into());
             }
             match kind {
                 0 | 2 => {
-                    let keys = self.position_keys(n, n_at, CURVES[kind])?;
+                    let keys = self.position_keys(n, n_at, curve)?;
                     let spline = Some(PositionSpline::new(&keys));
                     if kind == 0 {
                         track.translation = spline;
@@ -79,7 +113,7 @@ impl FileParser<'_, '_, '_> {
                 1 => track.rotation = Some(RotationSpline::new(&self.rotation_keys(n, n_at)?)),
                 _ => track.visibility = self.visibility_keys(n, n_at)?,
             }
-            self.no_more_rows(n, n_at, CURVES[kind])?;
+            self.no_more_rows(n, n_at, curve)?;
         }
         if !seen.contains(&true) {
             return Err(invalid(loc(kw), format!("keyframe block '{}' has no keys", track.name)).into());
@@ -113,12 +147,12 @@ impl FileParser<'_, '_, '_> {
     }
 
     /// `n` rows of `time x y z tension continuity bias`.
-    fn position_keys(&mut self, n: u32, n_at: Loc, curve: &str) -> Result<Vec<PositionKey>, ParseError> {
+    fn position_keys(&mut self, n: u32, n_at: Loc, curve: &Curve) -> Result<Vec<PositionKey>, ParseError> {
         let (mut keys, mut times) = (Vec::new(), Vec::new());
         for row in 0..n {
             let time = self.key_time(row, n, n_at, curve, &times)?;
             times.push(time);
-            let value = self.p.vec3(&format!("'{curve}' key x y z"))?;
+            let value = self.p.vec3(curve.value)?;
             let tcb = self.tcb(curve)?;
             keys.push(PositionKey {
                 time,
@@ -133,11 +167,11 @@ impl FileParser<'_, '_, '_> {
     fn rotation_keys(&mut self, n: u32, n_at: Loc) -> Result<Vec<RotationKey>, ParseError> {
         let (mut keys, mut times) = (Vec::new(), Vec::new());
         for row in 0..n {
-            let time = self.key_time(row, n, n_at, "rot", &times)?;
+            let time = self.key_time(row, n, n_at, &CURVES[1], &times)?;
             times.push(time);
             let axis = self.p.vec3("'rot' key axis x y z")?;
             let degrees = self.p.number("'rot' key angle in degrees")?;
-            let tcb = self.tcb("rot")?;
+            let tcb = self.tcb(&CURVES[1])?;
             keys.push(RotationKey {
                 time,
                 axis: [axis.x, axis.y, axis.z].map(f64::from),
@@ -153,7 +187,7 @@ impl FileParser<'_, '_, '_> {
         let mut keys = Vec::new();
         for row in 0..n {
             // In any order (see `Track::visible_at`).
-            let time = self.key_time(row, n, n_at, "visibility", &[])?;
+            let time = self.key_time(row, n, n_at, &CURVES[3], &[])?;
             let (flag, _) = self.integer("'visibility' flag, 0 or 1")?;
             keys.push(VisibilityKey {
                 time: time as f32,
@@ -164,11 +198,11 @@ impl FileParser<'_, '_, '_> {
     }
 
     /// A key's `tension continuity bias`.
-    fn tcb(&mut self, curve: &str) -> Result<Tcb, ParseError> {
+    fn tcb(&mut self, curve: &Curve) -> Result<Tcb, ParseError> {
         Ok(Tcb {
-            tension: self.p.number(&format!("'{curve}' key tension"))? as f64,
-            continuity: self.p.number(&format!("'{curve}' key continuity"))? as f64,
-            bias: self.p.number(&format!("'{curve}' key bias"))? as f64,
+            tension: self.p.number(curve.tcb[0])? as f64,
+            continuity: self.p.number(curve.tcb[1])? as f64,
+            bias: self.p.number(curve.tcb[2])? as f64,
         })
     }
 
@@ -183,7 +217,7 @@ impl FileParser<'_, '_, '_> {
         row: u32,
         n: u32,
         n_at: Loc,
-        curve: &str,
+        curve: &Curve,
         before: &[f64],
     ) -> Result<f64, ParseError> {
         let tok = match self.p.peek() {
@@ -193,13 +227,14 @@ impl FileParser<'_, '_, '_> {
                     format!("{} at line {}", t.quoted(), t.line)
                 });
                 let message = format!(
-                    "'{curve} {n}' promises {n} keys, but {row} rows follow ({found} instead of row {})",
+                    "'{} {n}' promises {n} keys, but {row} rows follow ({found} instead of row {})",
+                    curve.name,
                     row + 1
                 );
                 return Err(invalid(n_at, message));
             }
         };
-        let time = self.p.number(&format!("'{curve}' key time"))? as f64;
+        let time = self.p.number(curve.time)? as f64;
         if before.len() >= 2 && before[before.len() - 2] == time {
             let message = format!(
                 "a key at time {time} two keys after one at the same time: the curve's tangent is undefined"
@@ -214,13 +249,13 @@ impl FileParser<'_, '_, '_> {
     }
 
     /// Refuses a row after the `n` that the count at `n_at` promised.
-    fn no_more_rows(&self, n: u32, n_at: Loc, curve: &str) -> Result<(), ParseError> {
+    fn no_more_rows(&self, n: u32, n_at: Loc, curve: &Curve) -> Result<(), ParseError> {
         match self.p.peek() {
             Some(t) if parse_f32(t.text).is_some() => Err(invalid(
                 n_at,
                 format!(
-                    "'{curve} {n}' promises {n} keys, but more rows follow (line {})",
-                    t.line
+                    "'{} {n}' promises {n} keys, but more rows follow (line {})",
+                    curve.name, t.line
                 ),
             )),
             _ => Ok(()),

@@ -124,14 +124,14 @@ impl FileParser<'_, '_, '_> {
         let (n, _) = self.p.count("the number of triangles")?;
         let from = self.b.scene.meshes.triangles.len();
         for _ in 0..n {
-            let vertices = self.indices(positions.count, ("vertex", "vertices"))?;
+            let vertices = self.indices(positions.count, &VERTEX)?;
             let normals = match normals.count {
                 0 => [0; 3],
-                n => self.indices(n, ("normal", "normals"))?,
+                n => self.indices(n, &NORMAL)?,
             };
             let uvs = match uvs.count {
                 0 => [0; 3],
-                n => self.indices(n, ("texture coordinate", "texture coordinates"))?,
+                n => self.indices(n, &TEXTURE_COORDINATE)?,
             };
             self.admit_triangles(kw)?;
             self.b.scene.meshes.triangles.push(MeshTriangle {
@@ -282,12 +282,11 @@ impl FileParser<'_, '_, '_> {
         ))
     }
 
-    /// Three indices, each below `count`, into the mesh's list of `what` (singular,
-    /// plural).
-    fn indices(&mut self, count: u32, what: (&str, &str)) -> Result<[u32; 3], ParseError> {
+    /// Three indices, each below `count`, into the mesh's list of `what`.
+    fn indices(&mut self, count: u32, what: &Indexed) -> Result<[u32; 3], ParseError> {
         let mut out = [0; 3];
         for slot in &mut out {
-            let (i, at) = self.p.count(&format!("a {} index", what.0))?;
+            let (i, at) = self.p.count(what.index)?;
             if i >= count {
                 return Err(past_the_list(at, what, i, count));
             }
@@ -325,8 +324,38 @@ impl FileParser<'_, '_, '_> {
     }
 }
 
-/// The error for index `i` of a list of `count` of `what` (singular, plural).
-fn past_the_list(at: Loc, (one, many): (&str, &str), i: u32, count: u32) -> ParseError {
+/// What a triangle's indices index, named for messages (written once: a mesh's
+/// triangles read millions of indices).
+struct Indexed {
+    /// The index, as the parser's message names it.
+    index: &'static str,
+    /// One of them.
+    one: &'static str,
+    /// More.
+    many: &'static str,
+}
+
+const VERTEX: Indexed = Indexed {
+    index: "a vertex index",
+    one: "vertex",
+    many: "vertices",
+};
+
+const NORMAL: Indexed = Indexed {
+    index: "a normal index",
+    one: "normal",
+    many: "normals",
+};
+
+const TEXTURE_COORDINATE: Indexed = Indexed {
+    index: "a texture coordinate index",
+    one: "texture coordinate",
+    many: "texture coordinates",
+};
+
+/// The error for index `i` of a list of `count` of `what`.
+fn past_the_list(at: Loc, what: &Indexed, i: u32, count: u32) -> ParseError {
+    let (one, many) = (what.one, what.many);
     let message = match count.checked_sub(1) {
         None => format!("{one} index {i}, but the mesh has no {many}"),
         Some(last) => format!("{one} index {i} is past the mesh's {count} {many} (0 to {last})"),
