@@ -77,6 +77,63 @@ fn includes_are_found_from_the_including_file_and_a_mesh_read_twice_is_stored_on
 }
 
 #[test]
+fn the_primitive_limit_counts_a_mesh_each_time_it_is_placed() {
+    // Two triangles stored once, placed three times: six in a frame.
+    let top = write(
+        "placed",
+        &[
+            (
+                "main.aff",
+                &format!("{HEAD}i 0 quad.aff\ni 0 quad.aff\ni 0 quad.aff\n"),
+            ),
+            (
+                "quad.aff",
+                "m vertices 4 0 0 0 1 0 0 1 1 0 0 1 0 triangles 2 0 1 2 0 2 3\n",
+            ),
+        ],
+    );
+    let with = |max_primitives| LoadOptions {
+        limits: nffrt::nff::Limits {
+            max_primitives,
+            ..Default::default()
+        },
+        ..LoadOptions::default()
+    };
+    assert!(load(Source::File(&top), &with(6)).is_ok());
+    match load(Source::File(&top), &with(5)) {
+        Err(LoadError::Parse { name, error }) => {
+            assert_eq!((name.as_str(), error.line), (shown(&top, "quad.aff").as_str(), 1));
+            assert!(
+                error.kind.to_string().contains("more than 5 primitives"),
+                "{}",
+                error.kind
+            );
+        }
+        other => panic!("{:?}", other.map(|l| l.name)),
+    }
+    // The bytes parsed count a file each time it is included: room for two quads.
+    let size = |name: &str| std::fs::metadata(top.parent().unwrap().join(name)).unwrap().len();
+    let opts = LoadOptions {
+        max_bytes: size("main.aff") + 2 * size("quad.aff"),
+        ..LoadOptions::default()
+    };
+    match load(Source::File(&top), &opts) {
+        Err(LoadError::Parse { name, error }) => {
+            assert_eq!((name, error.line), (top.display().to_string(), 5));
+            assert!(
+                error
+                    .kind
+                    .to_string()
+                    .contains("each file counted as often as it is included"),
+                "{}",
+                error.kind
+            );
+        }
+        other => panic!("{:?}", other.map(|l| l.name)),
+    }
+}
+
+#[test]
 fn a_missing_include_is_refused_at_the_include() {
     let top = write(
         "missing",

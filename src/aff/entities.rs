@@ -35,6 +35,8 @@ impl FileParser<'_, '_, '_> {
         for (shape, material) in added {
             self.add_object(shape, material, kw);
         }
+        let triangles = self.b.placed_triangles + self.b.scene.animated_triangles.len();
+        self.within_primitives(triangles, kw)?;
         let node = self.b.node();
         for light in &mut self.p.scene_mut().lights[before[4]..] {
             light.color.get_or_insert(Vec3::ONE);

@@ -49,9 +49,9 @@ pub(super) struct Sources {
     active: Vec<PathBuf>,
     /// How deep the files being read nest (the top file is 1).
     depth: usize,
-    /// Bytes of every file read.
+    /// Bytes parsed: every file's, each time it is included.
     bytes: u64,
-    /// Most bytes all files may have.
+    /// Most bytes the scene may parse.
     max_bytes: u64,
     /// Includes followed.
     pub inclusions: usize,
@@ -126,6 +126,14 @@ impl Sources {
             Some(o) => o.clone(),
             None => self.read_new(&path, shown, &canonical, name)?,
         };
+        let bytes = self.bytes + opened.text.len() as u64;
+        if bytes > self.max_bytes {
+            return refuse(format!(
+                "cannot include {name}: the scene's text adds up to more than {} bytes, each file counted as often as it is included (--max-scene-bytes raises the limit)",
+                self.max_bytes
+            ));
+        }
+        self.bytes = bytes;
         self.inclusions += 1;
         self.depth += 1;
         self.active.push(canonical);
@@ -163,12 +171,11 @@ impl Sources {
         }
         if bytes.len() as u64 > left {
             let message = format!(
-                "cannot include {name}: the scene's files add up to more than {} bytes (--max-scene-bytes raises the limit)",
+                "cannot include {name}: the scene's text adds up to more than {} bytes, each file counted as often as it is included (--max-scene-bytes raises the limit)",
                 self.max_bytes
             );
             return Err(IncludeError::At(ParseErrorKind::Invalid(message)));
         }
-        self.bytes += bytes.len() as u64;
         let file = self.files.len() as u32;
         let text = prepare(&bytes).map_err(|error| {
             IncludeError::In(AffError {

@@ -141,8 +141,7 @@ impl FileParser<'_, '_, '_> {
             });
         }
         let triangles = Meshes::span_from(from, self.b.scene.meshes.triangles.len());
-        self.store_mesh(kw, mark, [positions, normals, uvs, triangles], texture);
-        Ok(())
+        self.store_mesh(kw, mark, [positions, normals, uvs, triangles], texture)
     }
 
     /// `tt TEXTURE.ppm  x y z u v  x y z u v  x y z u v`, and with `ttp` a normal
@@ -178,13 +177,12 @@ impl FileParser<'_, '_, '_> {
             Meshes::span_from(start[2], meshes.uvs.len()),
             Meshes::span_from(triangles, meshes.triangles.len()),
         ];
-        self.store_mesh(kw, mark, spans, Some(texture));
-        Ok(())
+        self.store_mesh(kw, mark, spans, Some(texture))
     }
 
     /// Keeps the geometry read since `mark` as a mesh, unless this place was read
     /// before (then that mesh), and makes it an object of the innermost node.
-    fn store_mesh(&mut self, kw: &Token, mark: [usize; 4], spans: [Span; 4], texture: Option<u32>) {
+    fn store_mesh(&mut self, kw: &Token, mark: [usize; 4], spans: [Span; 4], texture: Option<u32>) -> Read {
         let key = (self.file, kw.line, kw.column);
         let at = self.at(kw);
         let meshes = &mut self.b.scene.meshes;
@@ -208,8 +206,13 @@ impl FileParser<'_, '_, '_> {
                 id
             }
         };
+        self.place_triangles(
+            kw,
+            self.b.scene.meshes.geometries[id as usize].triangles.count as usize,
+        )?;
         let material = self.p.current_material(loc(kw));
         self.add_object(Shape::Mesh(id), material, kw);
+        Ok(())
     }
 
     /// `SECTION N` then `N` times `x y z` into the vertex or normal pool; an
@@ -295,12 +298,27 @@ impl FileParser<'_, '_, '_> {
         Ok(out)
     }
 
-    /// Refuses a triangle (of a mesh or animated) past the scene's primitive limit.
+    /// Refuses a triangle (of a mesh, or animated) past the scene's primitive limit.
     pub(super) fn admit_triangles(&self, kw: &Token) -> Result<(), ParseError> {
-        let max = self.b.limits.max_primitives;
         let s = &self.b.scene;
         let triangles = s.meshes.triangles.len() + s.animated_triangles.len();
-        if triangles + self.p.scene().primitive_count() >= max {
+        self.within_primitives(triangles + 1, kw)
+    }
+
+    /// Counts `n` triangles placed by a mesh object, refusing them past the scene's
+    /// primitive limit: it bounds a flattened frame, where a mesh stored once may
+    /// be placed many times.
+    fn place_triangles(&mut self, kw: &Token, n: usize) -> Result<(), ParseError> {
+        let placed = self.b.placed_triangles + n;
+        self.within_primitives(placed + self.b.scene.animated_triangles.len(), kw)?;
+        self.b.placed_triangles = placed;
+        Ok(())
+    }
+
+    /// Refuses `triangles` and NFF's primitives past the scene's primitive limit.
+    pub(super) fn within_primitives(&self, triangles: usize, kw: &Token) -> Result<(), ParseError> {
+        let max = self.b.limits.max_primitives;
+        if triangles + self.p.scene().primitive_count() > max {
             return Err(invalid(
                 loc(kw),
                 format!("more than {max} primitives (the limit; nffrt's --max-primitives raises it)"),

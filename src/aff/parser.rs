@@ -36,6 +36,8 @@ pub(super) struct Builder<'c> {
     /// Mesh geometry already read, by where its keyword stands: a file included again
     /// gives the same geometry, stored once.
     pub mesh_at: HashMap<(u32, u32, u32), u32>,
+    /// Triangles of every mesh placed (each placing counted): those of a flattened frame.
+    pub placed_triangles: usize,
     /// Keyframe blocks by name.
     pub track_names: HashMap<String, u32>,
     /// Textures by the path read.
@@ -99,6 +101,7 @@ impl<'c> Builder<'c> {
             detail: 0,
             limits: *limits,
             mesh_at: HashMap::new(),
+            placed_triangles: 0,
             track_names: HashMap::new(),
             texture_paths: HashMap::new(),
             warnings_left_out: 0,
