@@ -48,6 +48,7 @@ impl AffScene {
             }
             let (vertices, normals) = tri.at(t);
             let m = &world[node];
+            let before = lengths(&out);
             push_patch(
                 &mut out,
                 vertices.map(|p| m.point(p)),
@@ -55,7 +56,7 @@ impl AffScene {
                 tri.material,
                 tri.at.line,
             );
-            self.check_finite(&out, tri.at)?;
+            self.check_finite(&out, before, tri.at)?;
         }
         Ok(out)
     }
@@ -63,6 +64,7 @@ impl AffScene {
     /// Adds `object` under `m` to `out`.
     fn place(&self, object: &Object, m: &Affine, out: &mut Scene) -> Result<(), AffError> {
         let (material, line) = (object.material, object.at.line);
+        let before = lengths(out);
         match object.shape {
             Shape::Mesh(g) => self.place_mesh(&self.meshes.geometries[g as usize], m, material, line, out),
             Shape::Polygon(i) => {
@@ -116,7 +118,7 @@ impl AffScene {
                 }
             }
         }
-        self.check_finite(out, object.at)
+        self.check_finite(out, before, object.at)
     }
 
     /// Adds one mesh's triangles under `m`: as patches if it has normals, else as a
@@ -178,18 +180,18 @@ impl AffScene {
         })
     }
 
-    /// Refuses a frame whose last object came out with a coordinate past f32's range.
-    fn check_finite(&self, out: &Scene, at: Location) -> Result<(), AffError> {
-        let last = |v: &[Vec3]| v.last().is_none_or(|p| p.is_finite());
-        let finite = last(&out.polygon_vertices)
-            && last(&out.patch_vertices)
-            && last(&out.patch_normals)
-            && last(&out.mesh_vertices)
-            && out
-                .spheres
-                .last()
-                .is_none_or(|s| s.center.is_finite() && s.radius.is_finite())
-            && out.cones.last().is_none_or(|c| {
+    /// Refuses a frame whose object at `at`, placed after `before` ([`lengths`]),
+    /// came out with a coordinate past f32's range.
+    fn check_finite(&self, out: &Scene, before: [usize; 6], at: Location) -> Result<(), AffError> {
+        let all = |v: &[Vec3], from: usize| v[from..].iter().all(|p| p.is_finite());
+        let finite = all(&out.polygon_vertices, before[0])
+            && all(&out.patch_vertices, before[1])
+            && all(&out.patch_normals, before[2])
+            && all(&out.mesh_vertices, before[3])
+            && out.spheres[before[4]..]
+                .iter()
+                .all(|s| s.center.is_finite() && s.radius.is_finite())
+            && out.cones[before[5]..].iter().all(|c| {
                 c.base.is_finite()
                     && c.apex.is_finite()
                     && c.base_radius.is_finite()
@@ -251,6 +253,19 @@ impl AffScene {
             error: ParseError::new(at.line, at.column, ParseErrorKind::Invalid(message)),
         }
     }
+}
+
+/// The lengths of what [`AffScene::check_finite`] checks: polygon vertices, patch
+/// vertices and normals, mesh vertices, spheres, cones.
+fn lengths(s: &Scene) -> [usize; 6] {
+    [
+        s.polygon_vertices.len(),
+        s.patch_vertices.len(),
+        s.patch_normals.len(),
+        s.mesh_vertices.len(),
+        s.spheres.len(),
+        s.cones.len(),
+    ]
 }
 
 /// Adds a triangular patch unless it has no area.

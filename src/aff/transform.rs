@@ -234,14 +234,20 @@ impl Affine {
         Vec3::from_array(r)
     }
 
-    /// The image of normal `n`: the inverse transpose of the linear part applied to
-    /// it, up to a positive factor (the cofactor matrix, with the sign of the
-    /// determinant, so that a singular transform still gives a direction).
+    /// The image of normal `n`, of unit length (zero for a zero normal): the inverse
+    /// transpose of the linear part applied to it, by way of the cofactor matrix
+    /// with the determinant's sign (the same direction, and defined for a singular
+    /// transform too), normalized in f64 so that a large scale does not overflow it.
     pub fn normal(&self, n: Vec3) -> Vec3 {
         let c = self.cofactors();
         let sign = if self.determinant() < 0.0 { -1.0 } else { 1.0 };
         let [x, y, z] = [n.x as f64, n.y as f64, n.z as f64];
-        Vec3::from_array(c.map(|r| (sign * (r[0] * x + r[1] * y + r[2] * z)) as f32))
+        let image = c.map(|r| sign * (r[0] * x + r[1] * y + r[2] * z));
+        let len = dot3(image, image).sqrt();
+        if len == 0.0 || !len.is_finite() {
+            return Vec3::from_array(image.map(|v| v as f32));
+        }
+        Vec3::from_array(image.map(|v| (v / len) as f32))
     }
 
     /// The determinant of the linear part.
@@ -337,7 +343,7 @@ mod tests {
         // The plane x + y = 0 (normal (1, 1, 0)) scaled by 2 in x becomes x/2 + y = 0,
         // whose normal is (1/2, 1, 0), along (1, 2, 0).
         let m = Affine::trs([3.0, 0.0, 0.0], IDENTITY3, [2.0, 1.0, 1.0]);
-        let n = m.normal(Vec3::new(1.0, 1.0, 0.0)).normalize();
+        let n = m.normal(Vec3::new(1.0, 1.0, 0.0));
         assert!(close(n, Vec3::new(1.0, 2.0, 0.0).normalize()), "{n:?}");
         // A mirror keeps the normal on the side its inverse transpose gives.
         let mirror = Affine::trs([0.0; 3], IDENTITY3, [-1.0, 1.0, 1.0]);

@@ -170,6 +170,14 @@ fn a_sphere_under_a_stretch_is_refused_when_flattened() {
 }
 
 #[test]
+fn one_vertex_past_f32_refuses_its_mesh() {
+    // Only the first vertex overflows when scaled by 1e10: the others stay finite.
+    let s =
+        scene("xs 1e10 1e10 1e10 0 0 1 0 0 0 0 {\n m vertices 3 1e30 0 0 1 0 0 0 1 0 triangles 1 0 1 2 }\n");
+    assert_at(&s.flatten(0.0).unwrap_err(), 4, 2, "past the range of numbers");
+}
+
+#[test]
 fn transforms_past_f32_are_refused_not_rendered() {
     let s = scene(
         "xs 1e30 1e30 1e30 0 0 1 0 0 0 0 { xs 1e30 1e30 1e30 0 0 1 0 0 0 0 {\n p 3 0 0 0 1 0 0 0 1 0 } }\n",
