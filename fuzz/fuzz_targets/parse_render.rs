@@ -4,12 +4,12 @@
 
 #![no_main]
 
-use std::sync::OnceLock;
+mod common;
 
 use libfuzzer_sys::fuzz_target;
 use nffrt::load::Assets;
-use nffrt::prepare;
 use nffrt::nff::parse_bytes;
+use nffrt::prepare;
 use nffrt::render::{render, RenderOptions, Sampling};
 
 /// Longer inputs only make slower renders, not new paths.
@@ -23,18 +23,10 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let scene = prepare(scene, &Assets::default());
-    if let Err(e) = scene.accel().validate() {
+    if let Err(e) = scene.accel().bvh().validate() {
         panic!("invalid BVH: {e}");
     }
-    // One thread: fuzzing runs one job beside other work, and rayon's pool would
-    // otherwise take every core.
-    static POOL: OnceLock<rayon::ThreadPool> = OnceLock::new();
-    let pool = POOL.get_or_init(|| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .expect("a one-thread pool starts")
-    });
+    let pool = common::one_thread();
     for sampling in [Sampling::PixelCenters, Sampling::SpdCorners] {
         let opts = RenderOptions {
             width: 8,
