@@ -238,10 +238,10 @@ pub struct AffScene {
     /// The files read: the top one first, then each included file once, in the
     /// order they were first read.
     pub files: Vec<SourceFile>,
-    /// NFF's entities as written: the camera (`v`), background, lights (in world
-    /// space, see [`AffScene::light_nodes`]), the material table (`f` and `fm`),
-    /// and the spheres, cones, polygons and patches of [`Shape`] in their nodes'
-    /// local spaces.
+    /// NFF's entities as written: the camera (`v`), background, lights (in their
+    /// nodes' spaces, see [`AffScene::light_places`]), the material table (`f` and
+    /// `fm`), and the spheres, cones, polygons and patches of [`Shape`] in their
+    /// nodes' spaces.
     pub nff: Scene,
     /// Per material of `nff`, the `fm` it came from (`None` for an `f` or the default).
     pub fills: Vec<Option<FillMaterial>>,
