@@ -17,7 +17,7 @@ use nffrt::words::count;
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene file, NFF, P3F or AFF (by its extension or --format); `-` reads standard input.
+    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
