@@ -2,6 +2,9 @@
 //! one job beside other work, and rayon's global pool would take every core), and
 //! the write-and-parse-back check of a parsed scene.
 
+// Each target uses a different subset of it.
+#![allow(dead_code)]
+
 use std::sync::OnceLock;
 
 /// A pool of one thread, made once.
