@@ -30,6 +30,7 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod aff;
 pub mod compare;
 pub mod fingerprint;
 pub mod gen;

@@ -19,6 +19,15 @@ pub const MAX_WARNINGS: usize = 1000;
 pub const DEFAULT_MAX_SCENE_BYTES: u64 = 2 << 30;
 /// The largest skybox face accepted, in texels (a 16384 x 16384 image).
 pub const MAX_FACE_TEXELS: u64 = 1 << 28;
+/// How deep an AFF scene's includes may nest (the file loaded is depth 1); BART's
+/// scenes reach 3.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+/// The most includes an AFF scene may follow in all (a file included twice counts
+/// twice); BART's robot scene follows 835. Bounds a scene whose files include each
+/// other many times over without a cycle.
+pub const MAX_INCLUSIONS: usize = 1 << 16;
+/// The largest AFF texture accepted, in texels (an 8192 x 8192 image).
+pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 
 // What one render may ask for.
 

@@ -6,7 +6,9 @@
 //! viewer and the Python bindings all load through [`load`].
 //!
 //! The parsed [`Scene`] stays as parsed; what the files it names hold comes back
-//! beside it, as [`Assets`].
+//! beside it, as [`Assets`]. An AFF scene ([`crate::aff`]: its includes and textures
+//! read with it) comes back as its first frame, flattened, beside the animated
+//! scene it was flattened from ([`Loaded::aff`]).
 //!
 //! ```no_run
 //! use nffrt::load::{load, LoadOptions, Source};
@@ -23,6 +25,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use thiserror::Error;
 
+use crate::aff::{AffScene, AffSource};
 use crate::image::skybox::{CubeFace, FaceError, FaceImage, Skybox};
 use crate::limits::{DEFAULT_MAX_SCENE_BYTES, MAX_FACE_TEXELS};
 use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
@@ -60,7 +63,8 @@ pub enum AssetMode {
 /// How to load a scene.
 #[derive(Clone, Copy, Debug)]
 pub struct LoadOptions {
-    /// The language; `None` chooses by the file's extension (`.p3f` is P3F, else NFF).
+    /// The language; `None` chooses by the file's extension (`.p3f` is P3F, `.aff`
+    /// AFF, else NFF).
     pub format: Option<Format>,
     /// What the file may make the parser allocate.
     pub limits: Limits,
@@ -96,8 +100,10 @@ pub struct Assets {
 /// A loaded scene.
 #[derive(Clone, Debug)]
 pub struct Loaded {
-    /// The scene as parsed.
+    /// The scene as parsed (of an AFF scene, its first frame flattened).
     pub scene: Scene,
+    /// The AFF scene, animated and hierarchical, that `scene` is the first frame of.
+    pub aff: Option<Arc<AffScene>>,
     /// What the files it names hold.
     pub assets: Assets,
     /// The name messages give it: the path as given, `<stdin>`, or the text's name.
@@ -214,15 +220,31 @@ pub fn load_cancellable(
         }
     };
     let t0 = Instant::now();
-    let scene = parse_format_cancellable(bytes, format, &opts.limits, cancel).map_err(|error| {
-        if error.kind == ParseErrorKind::Cancelled {
-            return LoadError::Cancelled;
-        }
-        LoadError::Parse {
-            name: name.clone(),
-            error,
-        }
-    })?;
+    let (scene, aff, included) = if format == Format::Aff {
+        let path = match source {
+            Source::File(path) => Some(path),
+            _ => None,
+        };
+        let source = AffSource {
+            name: &name,
+            path,
+            bytes,
+            dir: dir.unwrap_or(Path::new("")),
+        };
+        let (scene, parsed) = load_aff(source, opts, cancel)?;
+        (scene, Some(Arc::new(parsed.scene)), parsed.included)
+    } else {
+        let scene = parse_format_cancellable(bytes, format, &opts.limits, cancel).map_err(|error| {
+            if error.kind == ParseErrorKind::Cancelled {
+                return LoadError::Cancelled;
+            }
+            LoadError::Parse {
+                name: name.clone(),
+                error,
+            }
+        })?;
+        (scene, None, Vec::new())
+    };
     let parse_s = t0.elapsed().as_secs_f64();
     if cancel.load(Ordering::Relaxed) {
         return Err(LoadError::Cancelled);
@@ -235,10 +257,16 @@ pub fn load_cancellable(
     };
     let fingerprint = opts
         .fingerprint
-        .then(|| fingerprint(bytes, named.as_ref()))
+        .then(|| {
+            // An AFF scene's included files and textures count as files it names.
+            let textures = aff.iter().flat_map(|a| a.textures.iter().map(|t| &t.rgb[..]));
+            let extra: Vec<&[u8]> = included.iter().map(|t| &t[..]).chain(textures).collect();
+            fingerprint(bytes, named.as_ref(), &extra)
+        })
         .transpose()?;
     Ok(Loaded {
         scene,
+        aff,
         assets,
         name,
         fingerprint,
@@ -349,15 +377,40 @@ impl NamedFiles {
     }
 }
 
-/// The fingerprint of a scene's `bytes` and of the files it names, each after its
-/// length (see [`crate::fingerprint::scene_fingerprint_with`]).
-fn fingerprint(bytes: &[u8], named: Option<&NamedFiles>) -> Result<u64, LoadError> {
+/// An AFF scene's first frame, and the scene with the text of the files it
+/// includes (for the fingerprint).
+fn load_aff(
+    source: AffSource<'_>,
+    opts: &LoadOptions,
+    cancel: &AtomicBool,
+) -> Result<(Scene, crate::aff::Parsed), LoadError> {
+    let located = |e: crate::aff::AffError| match e.is_cancelled() {
+        true => LoadError::Cancelled,
+        false => LoadError::Parse {
+            name: e.file,
+            error: e.error,
+        },
+    };
+    let parsed = crate::aff::parse(source, &opts.limits, opts.max_bytes, cancel).map_err(located)?;
+    let aff = &parsed.scene;
+    let scene = aff.flatten(aff.time_of_frame(0)).map_err(located)?;
+    Ok((scene, parsed))
+}
+
+/// The fingerprint of a scene's `bytes`, of the files it names and of those it
+/// includes, each after its length (see
+/// [`crate::fingerprint::scene_fingerprint_with`]).
+fn fingerprint(bytes: &[u8], named: Option<&NamedFiles>, included: &[&[u8]]) -> Result<u64, LoadError> {
     let mut files = Vec::new();
     for path in named.map(|n| &n.faces[..]).unwrap_or_default() {
         let context = named.map(|n| n.context.as_str()).unwrap_or_default();
         files.push(std::fs::read(path).map_err(|e| LoadError::from(cannot_read_face(path, &e, context)))?);
     }
-    let pieces: Vec<&[u8]> = files.iter().map(Vec::as_slice).collect();
+    let pieces: Vec<&[u8]> = included
+        .iter()
+        .copied()
+        .chain(files.iter().map(Vec::as_slice))
+        .collect();
     Ok(crate::fingerprint::scene_fingerprint_with(bytes, &pieces))
 }
 

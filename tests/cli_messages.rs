@@ -271,7 +271,7 @@ fn words_numbers_and_info_json_say_what_is_there() {
     );
     for sub in ["render", "info", "bench"] {
         let text = help(&[sub, "--help"]);
-        assert!(text.contains("Scene file, NFF or P3F"), "{sub}: {text}");
+        assert!(text.contains("Scene file, NFF, P3F or AFF"), "{sub}: {text}");
     }
 
     // One tile, one thread, one mesh: singular nouns.

@@ -4,14 +4,14 @@
 
 #![no_main]
 
-use std::sync::OnceLock;
+mod common;
 
 use libfuzzer_sys::fuzz_target;
 use nffrt::load::Assets;
-use nffrt::prepare;
 use nffrt::nff::parse_bytes;
-use nffrt::render::render;
 use nffrt::options::{RenderOptions, Sampling};
+use nffrt::prepare;
+use nffrt::render::render;
 
 /// Longer inputs only make slower renders, not new paths.
 const MAX_INPUT: usize = 8192;
@@ -27,15 +27,7 @@ fuzz_target!(|data: &[u8]| {
     if let Err(e) = scene.accel().bvh().validate() {
         panic!("invalid BVH: {e}");
     }
-    // One thread: fuzzing runs one job beside other work, and rayon's pool would
-    // otherwise take every core.
-    static POOL: OnceLock<rayon::ThreadPool> = OnceLock::new();
-    let pool = POOL.get_or_init(|| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .expect("a one-thread pool starts")
-    });
+    let pool = common::one_thread();
     for sampling in [Sampling::PixelCenters, Sampling::SpdCorners] {
         let opts = RenderOptions {
             width: 8,
@@ -44,7 +36,9 @@ fuzz_target!(|data: &[u8]| {
             sampling,
             ..Default::default()
         };
-        let (image, _) = pool.install(|| render(&scene, scene.view(), &opts));
+        let (image, _) = pool
+            .install(|| render(&scene, scene.view(), &opts))
+            .expect("an 8x8 render is within every limit");
         assert_eq!(image.pixels.len(), 64);
         for (i, p) in image.pixels.iter().enumerate() {
             assert!(p.is_finite(), "pixel {i} is {p:?}");

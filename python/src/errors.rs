@@ -49,6 +49,7 @@ pub fn load_error(py: Python<'_>, path: Option<&Path>, e: LoadError, hint: Optio
                     let (name, arg) = match f {
                         nffrt::nff::Format::Nff => ("an NFF", "nff"),
                         nffrt::nff::Format::P3f => ("a P3F", "p3f"),
+                        nffrt::nff::Format::Aff => ("an AFF", "aff"),
                     };
                     format!(
                         "{plain}: it is {name} keyword (pass format=\"{arg}\" if the scene is {name} file)"

@@ -33,7 +33,7 @@ use nffrt::words::count;
     "Refuse more than N primary rays (the scene's width x height) or --random rays"
 )))]
 pub struct BenchArgs {
-    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
+    /// Scene file, NFF, P3F or AFF (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Also trace the rays in FILE: raw little-endian float32 rows `ox oy oz dx dy dz`,
     /// 24 bytes a ray (BENCHMARKS.md shows how to dump another tracer's rays).
@@ -431,7 +431,13 @@ fn time_query(
 
 /// [`time_query`] for closest hits traced [`PACKET`] consecutive rays at a time,
 /// with the walk `coherence` names.
-fn time_packets(pool: &rayon::ThreadPool, rays: &[Ray], repeat: u32, bvh: &Bvh, coherence: Coherence) -> Timing {
+fn time_packets(
+    pool: &rayon::ThreadPool,
+    rays: &[Ray],
+    repeat: u32,
+    bvh: &Bvh,
+    coherence: Coherence,
+) -> Timing {
     let pass = || -> usize {
         pool.install(|| {
             rays.par_chunks(4096)
@@ -467,7 +473,8 @@ fn time_packets_occlusion(
                         .map(|packet| {
                             let active = (1 << packet.len()) - 1;
                             let limits = [f32::INFINITY; PACKET];
-                            bvh.occluded8(&Ray8::new(packet), &limits, active, coherence).count_ones() as usize
+                            bvh.occluded8(&Ray8::new(packet), &limits, active, coherence)
+                                .count_ones() as usize
                         })
                         .sum::<usize>()
                 })

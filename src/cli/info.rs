@@ -9,6 +9,7 @@ use super::limits::SceneLimitArgs;
 use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
+use nffrt::aff::AffSummary;
 use nffrt::geometry::build_geometry;
 use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
@@ -16,7 +17,7 @@ use nffrt::words::count;
 /// Arguments of `nffrt info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
+    /// Scene file, NFF, P3F or AFF (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Print one JSON object instead of the human summary.
     #[arg(long)]
@@ -88,8 +89,12 @@ impl CameraJson {
 struct InfoJson {
     /// The scene file as named on the command line (`<stdin>` for `-`).
     scene: String,
-    /// `nff`, `p3f-2019` or `p3f-2025`.
+    /// `nff`, `p3f-2019`, `p3f-2025` or `aff` (the rest describes an AFF scene's
+    /// first frame).
     dialect: &'static str,
+    /// An AFF scene's animation, hierarchy, objects, textures and triangles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    aff: Option<AffSummary>,
     camera: CameraJson,
     /// The acceleration structure a render uses without `--accel`: the P3F file's
     /// `accel`, else `bvh`.
@@ -145,10 +150,13 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let b = s.bounds();
     let bounds = (!b.is_empty()).then_some((b.min.to_array(), b.max.to_array()));
     let bvh = args.bvh.then(|| bvh_info(s));
+    let aff = loaded.aff.as_ref().map(|a| a.summary());
+    let dialect = if aff.is_some() { "aff" } else { s.dialect.name() };
     if args.json {
         let j = InfoJson {
             scene: loaded.name.clone(),
-            dialect: s.dialect.name(),
+            dialect,
+            aff,
             camera: CameraJson::of(&s.view),
             accel: s.accel.unwrap_or_default(),
             kernels: nffrt::accel::simd::level().name(),
@@ -202,7 +210,10 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
         v.up.z,
         v.angle
     );
-    outln!("format      {}", s.dialect.name());
+    outln!("format      {dialect}");
+    if let Some(a) = &aff {
+        print_aff(a);
+    }
     match s.accel {
         Some(a) => outln!(
             "accel       {} (as the file asks; --accel chooses another)",
@@ -290,6 +301,62 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     }
     print_warnings(&loaded, 20);
     Ok(())
+}
+
+/// The lines of an AFF scene's summary; the rest of `info` describes its first frame.
+fn print_aff(a: &AffSummary) {
+    let [start, end] = a.time_span;
+    outln!(
+        "animation   {} from time {start} to {end}, {} apart (the rest: frame 0, at time {start})",
+        count(a.frames, "frame", "frames"),
+        a.frame_step
+    );
+    outln!(
+        "files       {} read, {} followed{}",
+        a.files,
+        count(a.inclusions, "include", "includes"),
+        match a.skipped_inclusions {
+            0 => String::new(),
+            n => format!(", {n} skipped for their detail level"),
+        }
+    );
+    let unkeyed = match a.unkeyed_transforms {
+        0 => String::new(),
+        n => format!(" ({n} without keys)"),
+    };
+    outln!(
+        "transforms  {} static, {} keyframed{unkeyed}; {}{}",
+        a.static_transforms,
+        a.animated_transforms,
+        count(a.keyframe_blocks, "keyframe block", "keyframe blocks"),
+        if a.animated_camera {
+            ", the camera's among them"
+        } else {
+            ""
+        }
+    );
+    let objects: Vec<String> = a
+        .objects
+        .named()
+        .iter()
+        .filter(|(_, n)| *n > 0)
+        .map(|(kind, n)| format!("{n} {}", kind.replace('_', " ")))
+        .collect();
+    outln!(
+        "objects     {} (meshes: {} distinct)",
+        objects.join(", "),
+        a.mesh_geometries
+    );
+    outln!(
+        "textures    {} ({})",
+        a.textures.len(),
+        count(a.texels, "texel", "texels")
+    );
+    outln!(
+        "triangles   {} stored (instanced), {} in a flattened frame",
+        a.instanced_triangles,
+        a.flattened_triangles
+    );
 }
 
 fn accel_name(a: Accel) -> &'static str {

@@ -20,8 +20,8 @@ use nffrt::words::count;
 /// How a scene file is read, and the limits on what it may make nffrt read and build.
 #[derive(Args, Debug, Clone)]
 pub struct SceneLimitArgs {
-    /// The scene's language; default: by the extension (`.p3f` is P3F, anything else
-    /// NFF). Needed for P3F on standard input.
+    /// The scene's language; default: by the extension (`.p3f` is P3F, `.aff` AFF,
+    /// anything else NFF). Needed for P3F or AFF on standard input.
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub format: Option<FormatArg>,
     /// Refuse scene files larger than N bytes.
@@ -49,6 +49,8 @@ pub enum FormatArg {
     Nff,
     /// P3F, the IST course's extended NFF (both dialects).
     P3f,
+    /// AFF, BART's animated NFF (docs/aff.md).
+    Aff,
 }
 
 impl From<FormatArg> for Format {
@@ -56,6 +58,7 @@ impl From<FormatArg> for Format {
         match f {
             FormatArg::Nff => Format::Nff,
             FormatArg::P3f => Format::P3f,
+            FormatArg::Aff => Format::Aff,
         }
     }
 }

@@ -68,14 +68,22 @@ pub fn decoded_assets(scene: &RenderScene) -> Result<(), CliError> {
     scene.decode_assets().map_err(|e| CliError::io(e.to_string()))
 }
 
-/// Prints the scene's warnings to standard error, at most `limit` of them.
+/// Prints the scene's warnings to standard error, at most `limit` of them (an AFF
+/// scene's each at its own file).
 pub fn print_warnings(loaded: &Loaded, limit: usize) {
     let w = &loaded.scene.warnings;
-    for warning in w.iter().take(limit) {
-        eprintln!(
-            "{}:{}:{}: warning: {}",
-            loaded.name, warning.line, warning.column, warning.message
-        );
+    if let Some(aff) = &loaded.aff {
+        for warning in aff.warnings.iter().take(limit) {
+            let (file, at) = (aff.file_name(warning.at.file), warning.at);
+            eprintln!("{file}:{}:{}: warning: {}", at.line, at.column, warning.message);
+        }
+    } else {
+        for warning in w.iter().take(limit) {
+            eprintln!(
+                "{}:{}:{}: warning: {}",
+                loaded.name, warning.line, warning.column, warning.message
+            );
+        }
     }
     if w.len() > limit {
         eprintln!("{}: ... and {} more warnings", loaded.name, w.len() - limit);

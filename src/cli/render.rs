@@ -31,7 +31,7 @@ use nffrt::words::count;
 /// Arguments of `nffrt render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file, NFF or P3F (by its extension or --format); `-` reads standard input.
+    /// Scene file, NFF, P3F or AFF (by its extension or --format); `-` reads standard input.
     pub scene: PathBuf,
     /// Output image: .png (8-bit), .ppm (binary P6, 8-bit), .pfm or .exr (linear
     /// float); `-` writes PNG to standard output. Default: the scene's file stem +

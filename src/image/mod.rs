@@ -24,5 +24,5 @@ pub use bands::bands;
 pub use format::{png_error, ImageFormat, SOFTWARE_TEXT};
 pub use framebuffer::{quantize, quantize_srgb, Encoding, Image};
 pub use pfm::{decode_pfm, encode_pfm};
-pub use ppm::{decode_ppm, encode_ppm, encode_ppm_rgb8};
+pub use ppm::{decode_ppm, decode_ppm_raster, encode_ppm, encode_ppm_rgb8, PpmRaster};
 pub use region::Region;

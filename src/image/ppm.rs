@@ -18,6 +18,33 @@ pub fn encode_ppm_rgb8(width: u32, height: u32, rgb: &[u8], w: &mut (impl Write 
 /// Reads a binary PPM with maxval 255: `(width, height, RGB bytes)`. Comments (`#`
 /// to the end of the line) are allowed in the header, as the format permits.
 pub fn decode_ppm(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), String> {
+    let ppm = decode_ppm_raster(bytes, u64::MAX)?;
+    if ppm.trailing > 0 {
+        let want = ppm.rgb.len();
+        return Err(format!(
+            "raster of {} bytes, expected {want}",
+            want + ppm.trailing
+        ));
+    }
+    Ok((ppm.width, ppm.height, ppm.rgb))
+}
+
+/// A binary PPM's image, and how many bytes followed its raster.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PpmRaster {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height` RGB triples, top row first.
+    pub rgb: Vec<u8>,
+    /// Bytes after the raster (a final newline that some writers add).
+    pub trailing: usize,
+}
+
+/// Reads a binary PPM with maxval 255 and at most `max_pixels` pixels, leaving any
+/// bytes after its raster to the caller ([`PpmRaster::trailing`]).
+pub fn decode_ppm_raster(bytes: &[u8], max_pixels: u64) -> Result<PpmRaster, String> {
     let mut pos = 0;
     let magic = header_token(bytes, &mut pos)?;
     if magic != "P6" {
@@ -31,13 +58,24 @@ pub fn decode_ppm(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), String> {
     if maxval != 255 {
         return Err(format!("maxval {maxval} (only 255 is supported)"));
     }
+    let pixels = width as u64 * height as u64;
+    if pixels > max_pixels {
+        return Err(format!(
+            "{width} x {height} pixels, more than the {max_pixels} allowed"
+        ));
+    }
     // Exactly one whitespace byte separates the header from the raster.
     let data = bytes.get(pos + 1..).ok_or("no raster data")?;
-    let want = width as usize * height as usize * 3;
-    if data.len() != want {
+    let want = pixels as usize * 3;
+    if data.len() < want {
         return Err(format!("raster of {} bytes, expected {want}", data.len()));
     }
-    Ok((width, height, data.to_vec()))
+    Ok(PpmRaster {
+        width,
+        height,
+        rgb: data[..want].to_vec(),
+        trailing: data.len() - want,
+    })
 }
 
 /// The next whitespace-separated header token of a PNM/PFM file, skipping comments;

@@ -142,7 +142,7 @@ impl Parser<'_> {
         // P3F lights carry colours; one without is white.
         let color = match self.format {
             Format::P3f => Some(color.unwrap_or(Vec3::ONE)),
-            Format::Nff => color,
+            Format::Nff | Format::Aff => color,
         };
         self.scene.lights.push(Light::point(position, color));
         Ok(())
@@ -366,7 +366,7 @@ impl Parser<'_> {
 /// True when the points span no area: Newell's normal (robust for concave polygons, zero
 /// for collinear ones) is negligible against the polygon's squared extent. Computed in f64
 /// so that neither huge (1e13) nor tiny (1e-13) but valid f32 polygons overflow or underflow.
-fn is_degenerate(pts: &[Vec3]) -> bool {
+pub(crate) fn is_degenerate(pts: &[Vec3]) -> bool {
     let f64s = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
     let p0 = f64s(pts[0]);
     let rel = |p: Vec3| {

@@ -71,6 +71,7 @@ fn other_language_hint(word: &str, other: Option<Format>) -> String {
         None => return String::new(),
         Some(Format::Nff) => ("an", "NFF", "nff"),
         Some(Format::P3f) => ("a", "P3F", "p3f"),
+        Some(Format::Aff) => ("an", "AFF", "aff"),
     };
     format!("; {word} is {article} {name} keyword: is this {article} {name} file? (--format {flag})")
 }

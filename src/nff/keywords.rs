@@ -65,11 +65,13 @@ pub(super) const KEYWORDS: &[Keyword] = &[
 ];
 
 impl Keyword {
-    /// True if files in `format` use this keyword.
+    /// True if files in `format` use this keyword (none is AFF's: [`crate::aff`] has
+    /// its own table, which takes NFF's entities from this one).
     pub fn in_format(&self, format: Format) -> bool {
         match format {
             Format::Nff => self.nff,
             Format::P3f => self.p3f,
+            Format::Aff => false,
         }
     }
 }
@@ -87,7 +89,7 @@ pub(super) fn find(text: &[u8], format: Format) -> Option<&'static Keyword> {
 pub(super) fn other_format_with(text: &[u8], format: Format) -> Option<Format> {
     let other = match format {
         Format::Nff => Format::P3f,
-        Format::P3f => Format::Nff,
+        Format::P3f | Format::Aff => Format::Nff,
     };
     find(text, other).map(|_| other)
 }

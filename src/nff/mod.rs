@@ -17,6 +17,7 @@
 //! ```
 
 mod chunks;
+mod embed;
 mod entities;
 mod error;
 mod keywords;
@@ -27,10 +28,14 @@ mod parser;
 mod text;
 mod writer;
 
+pub(crate) use embed::{Embedded, EntityState};
+pub(crate) use entities::is_degenerate;
 pub use error::{ParseError, ParseErrorKind};
 pub use lexer::{Lexer, Token};
 pub use limits::Limits;
+pub(crate) use parser::parse_f32;
 pub use parser::{parse, parse_bytes, parse_bytes_with, parse_format, parse_format_cancellable};
+pub(crate) use text::scene_text;
 
 /// The language of a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -40,14 +45,18 @@ pub enum Format {
     Nff,
     /// P3F, the IST course's extended NFF, in either of its dialects.
     P3f,
+    /// AFF, BART's animated NFF: read by [`crate::aff`] (its files include others),
+    /// never by this module's parser.
+    Aff,
 }
 
 impl Format {
-    /// The format a file's name implies: P3F for a `.p3f` extension (any case), NFF
-    /// otherwise.
+    /// The format a file's name implies: P3F for a `.p3f` extension, AFF for `.aff`
+    /// (any case), NFF otherwise.
     pub fn of_path(path: &std::path::Path) -> Format {
         match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("p3f") => Format::P3f,
+            Some(e) if e.eq_ignore_ascii_case("aff") => Format::Aff,
             _ => Format::Nff,
         }
     }

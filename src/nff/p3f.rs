@@ -67,12 +67,21 @@ impl Parser<'_> {
         let v = normal.cross(u);
         let (edge1, edge2) = (u * w, v * h);
         let corner = centre - edge1 * 0.5 - edge2 * 0.5;
+        let (v1, v2) = (corner + edge1, corner + edge2);
+        // A size too small for the centre's magnitude rounds the corners onto a line
+        // (a width of 1e-16 at x = -3): refused as `light quad` refuses it.
+        if !is_parallelogram(corner, v1, v2) {
+            return Err(invalid(
+                size_at,
+                format!("area light of size {w} x {h} has no area at its position (its corners round onto a line)"),
+            ));
+        }
         self.scene.lights.push(Light {
             position: corner,
             color,
             area: Some(LightArea {
-                v1: corner + edge1,
-                v2: corner + edge2,
+                v1,
+                v2,
                 grid: AREA_LIGHT_GRID,
             }),
         });
@@ -108,7 +117,7 @@ impl Parser<'_> {
                         format!("light quad grid {grid} is outside 1..=1024"),
                     ));
                 }
-                if (v1 - corner).cross(v2 - corner).length_squared() == 0.0 {
+                if !is_parallelogram(corner, v1, v2) {
                     return Err(invalid(
                         loc(kw),
                         "light quad with no area (its corners are collinear)",
@@ -417,6 +426,12 @@ impl Parser<'_> {
     }
 }
 
+/// True if the corners `corner`, `v1`, `v2` of an area light span an area (in f32,
+/// as the light samples it): the one test of `al` and `light quad`.
+fn is_parallelogram(corner: Vec3, v1: Vec3, v2: Vec3) -> bool {
+    (v1 - corner).cross(v2 - corner).length_squared() != 0.0
+}
+
 #[cfg(test)]
 mod tests {
     use crate::math::Vec3;
@@ -450,6 +465,17 @@ mod tests {
     }
 
     const CAMERA: &str = "camera eye 0 0 5 at 0 0 0 up 0 1 0 angle 40\n";
+
+    #[test]
+    fn an_area_light_too_small_for_its_position_is_refused() {
+        // Found by fuzzing (fuzz/fuzz_targets/p3f.rs): a width of 1e-16 beside x = -3
+        // rounds the corners onto a line; the light was kept, and written as `light
+        // quad`, which refused it.
+        let e = p3f_err("al -3 1 5  0 6 0.6  1.11022e-16 0.166667\n");
+        assert_eq!((e.line, e.column), (1, 21));
+        assert!(e.to_string().contains("has no area at its position"), "{e}");
+        assert_eq!(p3f("al -3 1 5  0 6 0.6  0.1 0.166667\n").lights.len(), 1);
+    }
 
     #[test]
     fn fourteen_material_numbers_end_in_the_emitted_radiance() {

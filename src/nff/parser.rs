@@ -46,7 +46,8 @@ pub fn parse_bytes_with(src: &[u8], limits: &Limits) -> Result<Scene, ParseError
 
 /// Parses a scene in `format` from raw bytes within `limits` (see
 /// [`parse_bytes_with`]; P3F files are always parsed in one pass). A file without a
-/// single entity is an error.
+/// single entity is an error, and so is [`Format::Aff`]: an AFF file includes others
+/// and is animated, so it is read by [`crate::aff`] (or [`crate::load`]).
 pub fn parse_format(src: &[u8], format: Format, limits: &Limits) -> Result<Scene, ParseError> {
     parse_with(src, format, limits, None)
 }
@@ -73,6 +74,12 @@ fn parse_with(
     let parallel = match format {
         Format::Nff => chunks::parse_in_parallel(src, limits, cancel),
         Format::P3f => None,
+        Format::Aff => {
+            return Err(invalid(
+                (1, 1),
+                "AFF scenes are read by nffrt::aff or nffrt::load, which follow their includes",
+            ))
+        }
     };
     match parallel {
         Some(scene) => Ok(scene),
@@ -214,7 +221,7 @@ impl<'a> Parser<'a> {
         }
         if !self.saw_view {
             let block = match self.format {
-                Format::Nff => "'v' block",
+                Format::Nff | Format::Aff => "'v' block",
                 Format::P3f => {
                     self.scene.view.angle_span = AngleSpan::ImageEdges;
                     "'v' or 'camera' block"
@@ -367,7 +374,7 @@ impl<'a> Parser<'a> {
 /// `str::parse` would (same syntax, correctly rounded), without first validating them
 /// as UTF-8 and faster: 52 MB of triangles parse in 110 instead of 131 ms.
 #[inline]
-pub(super) fn parse_f32(text: &[u8]) -> Option<f32> {
+pub(crate) fn parse_f32(text: &[u8]) -> Option<f32> {
     let first = *text.first()?;
     if !(first.is_ascii_digit() || matches!(first, b'-' | b'+' | b'.')) {
         return None;

@@ -15,7 +15,7 @@ const BLOCK: usize = 4096;
 /// text file holds (a control character other than tab, line feed, vertical tab,
 /// form feed and carriage return). Line and column count from after the mark, as an
 /// editor shows them.
-pub(super) fn scene_text(src: &[u8]) -> Result<&[u8], ParseError> {
+pub(crate) fn scene_text(src: &[u8]) -> Result<&[u8], ParseError> {
     let text = src.strip_prefix(UTF8_BOM).unwrap_or(src);
     for (k, block) in text.chunks(BLOCK).enumerate() {
         if block.iter().fold(false, |any, &b| any | is_binary(b)) {

@@ -1,0 +1,290 @@
+//! A frame of an AFF scene as a plain [`Scene`] in world space, for the existing
+//! pipeline: every shown object placed by its node's transform at the frame's time,
+//! meshes with normals and animated triangles as triangular patches (normals by
+//! the inverse transpose), meshes without as [`Scene::meshes`], polygons, patches,
+//! spheres and cones as themselves (a sphere or cone only under a transform that
+//! keeps it one: a similarity). Textures are not applied yet: a textured surface
+//! shows its material's colour.
+
+use super::error::AffError;
+use super::mesh::MeshGeometry;
+use super::scene::{AffScene, Location, Object, Shape};
+use super::transform::Affine;
+use crate::math::Vec3;
+use crate::nff::{is_degenerate, ParseError, ParseErrorKind};
+use crate::scene::{Cone, Dialect, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning};
+
+impl AffScene {
+    /// The scene at time `t` (see [`AffScene::time_of_frame`]) in world space. An
+    /// error, at the object or the camera block concerned, for a transform that
+    /// overflows, a sphere or cone under a non-uniform scale, or a camera left
+    /// without a direction.
+    pub fn flatten(&self, t: f64) -> Result<Scene, AffError> {
+        let world = self.node_transforms(t);
+        let shown = self.node_visibility(t);
+        let mut out = Scene {
+            dialect: Dialect::Nff,
+            view: self.checked_camera(t)?,
+            background: self.nff.background,
+            materials: self.nff.materials.clone(),
+            warnings: self.plain_warnings(),
+            ..Scene::default()
+        };
+        for (i, light) in self.nff.lights.iter().enumerate() {
+            let mut light = *light;
+            light.position = self.light_position_at(i, t, &world);
+            out.lights.push(light);
+        }
+        for object in &self.objects {
+            let node = object.node as usize;
+            if shown[node] {
+                self.place(object, &world[node], &mut out)?;
+            }
+        }
+        for tri in &self.animated_triangles {
+            let node = tri.node as usize;
+            if !shown[node] {
+                continue;
+            }
+            let (vertices, normals) = tri.at(t);
+            let m = &world[node];
+            let before = lengths(&out);
+            push_patch(
+                &mut out,
+                vertices.map(|p| m.point(p)),
+                normals.map(|n| m.normal(n)),
+                tri.material,
+                tri.at.line,
+            );
+            self.check_finite(&out, before, tri.at)?;
+        }
+        Ok(out)
+    }
+
+    /// Adds `object` under `m` to `out`.
+    fn place(&self, object: &Object, m: &Affine, out: &mut Scene) -> Result<(), AffError> {
+        let (material, line) = (object.material, object.at.line);
+        let before = lengths(out);
+        match object.shape {
+            Shape::Mesh(g) => self.place_mesh(&self.meshes.geometries[g as usize], m, material, line, out),
+            Shape::Polygon(i) => {
+                let p = &self.nff.polygons[i as usize];
+                let points: Vec<Vec3> = self.nff.polygon_points(p).iter().map(|&v| m.point(v)).collect();
+                if has_area(&points) {
+                    out.polygons.push(Polygon {
+                        first: out.polygon_vertices.len() as u32,
+                        ..*p
+                    });
+                    out.polygon_vertices.extend(points);
+                }
+            }
+            Shape::Patch(i) => {
+                let p = &self.nff.patches[i as usize];
+                let (points, normals) = self.nff.patch_points(p);
+                let points: Vec<Vec3> = points.iter().map(|&v| m.point(v)).collect();
+                if has_area(&points) {
+                    out.patches.push(Patch {
+                        first: out.patch_vertices.len() as u32,
+                        ..*p
+                    });
+                    out.patch_vertices.extend(points);
+                    out.patch_normals.extend(normals.iter().map(|&n| m.normal(n)));
+                }
+            }
+            Shape::Sphere(i) => {
+                let s = self.nff.spheres[i as usize];
+                let k = self.similarity(m, object.at, "sphere")?;
+                let radius = s.radius * k;
+                if radius != 0.0 {
+                    out.spheres.push(Sphere {
+                        center: m.point(s.center),
+                        radius,
+                        ..s
+                    });
+                }
+            }
+            Shape::Cone(i) => {
+                let c = self.nff.cones[i as usize];
+                let k = self.similarity(m, object.at, "cone")?;
+                let (base, apex) = (m.point(c.base), m.point(c.apex));
+                if base != apex && (c.base_radius != 0.0 || c.apex_radius != 0.0) {
+                    out.cones.push(Cone {
+                        base,
+                        apex,
+                        base_radius: c.base_radius * k,
+                        apex_radius: c.apex_radius * k,
+                        ..c
+                    });
+                }
+            }
+        }
+        self.check_finite(out, before, object.at)
+    }
+
+    /// Adds one mesh's triangles under `m`: as patches if it has normals, else as a
+    /// mesh. Triangles left without area (under a zero scale) are left out.
+    fn place_mesh(&self, g: &MeshGeometry, m: &Affine, material: u32, line: u32, out: &mut Scene) {
+        let pool = &self.meshes;
+        let points: Vec<Vec3> = pool.positions[g.positions.range()]
+            .iter()
+            .map(|&p| m.point(p))
+            .collect();
+        let triangles = &pool.triangles[g.triangles.range()];
+        if g.normals.count > 0 {
+            let normals: Vec<Vec3> = pool.normals[g.normals.range()]
+                .iter()
+                .map(|&n| m.normal(n))
+                .collect();
+            for t in triangles {
+                let corners = t.vertices.map(|i| points[i as usize]);
+                push_patch(
+                    out,
+                    corners,
+                    t.normals.map(|i| normals[i as usize]),
+                    material,
+                    line,
+                );
+            }
+            return;
+        }
+        let first_vertex = out.mesh_vertices.len() as u32;
+        let first_triangle = out.mesh_triangles.len() as u32;
+        for t in triangles {
+            if has_area(&t.vertices.map(|i| points[i as usize])) {
+                out.mesh_triangles.push(MeshTriangle {
+                    vertices: t.vertices.map(|i| first_vertex + i),
+                    line,
+                });
+            }
+        }
+        let triangle_count = out.mesh_triangles.len() as u32 - first_triangle;
+        if triangle_count > 0 {
+            out.mesh_vertices.extend(points);
+            out.meshes.push(Mesh {
+                first_vertex,
+                vertex_count: out.mesh_vertices.len() as u32 - first_vertex,
+                first_triangle,
+                triangle_count,
+                material,
+                line,
+            });
+        }
+    }
+
+    /// The uniform scale of `m`, which a sphere or cone at `at` needs.
+    fn similarity(&self, m: &Affine, at: Location, what: &str) -> Result<f32, AffError> {
+        m.uniform_scale().map(|k| k as f32).ok_or_else(|| {
+            let message =
+                format!("a {what} under a non-uniform scale or a shear (it would not stay a {what})");
+            self.error(at, message)
+        })
+    }
+
+    /// Refuses a frame whose object at `at`, placed after `before` ([`lengths`]),
+    /// came out with a coordinate past f32's range.
+    fn check_finite(&self, out: &Scene, before: [usize; 6], at: Location) -> Result<(), AffError> {
+        let all = |v: &[Vec3], from: usize| v[from..].iter().all(|p| p.is_finite());
+        let finite = all(&out.polygon_vertices, before[0])
+            && all(&out.patch_vertices, before[1])
+            && all(&out.patch_normals, before[2])
+            && all(&out.mesh_vertices, before[3])
+            && out.spheres[before[4]..]
+                .iter()
+                .all(|s| s.center.is_finite() && s.radius.is_finite())
+            && out.cones[before[5]..].iter().all(|c| {
+                c.base.is_finite()
+                    && c.apex.is_finite()
+                    && c.base_radius.is_finite()
+                    && c.apex_radius.is_finite()
+            });
+        if finite {
+            Ok(())
+        } else {
+            Err(self.error(
+                at,
+                "its transforms take it past the range of numbers (f32)".into(),
+            ))
+        }
+    }
+
+    /// The camera at `t`, refused if its direction or up vector is unusable.
+    fn checked_camera(&self, t: f64) -> Result<View, AffError> {
+        let view = self.camera_at(t);
+        let dir = view.at - view.from;
+        let usable = dir.length_squared() > 0.0
+            && dir.length_squared().is_finite()
+            && view.up.is_finite()
+            && dir.normalize().cross(view.up.normalize()).length_squared() > 1e-12;
+        if usable {
+            return Ok(view);
+        }
+        let at = self
+            .camera_track
+            .map_or(Location::default(), |i| self.tracks[i as usize].at);
+        Err(self.error(
+            at,
+            format!("at time {t} the camera has no usable direction and up vector"),
+        ))
+    }
+
+    /// The scene's warnings as a plain scene keeps them: those of included files
+    /// name their file.
+    fn plain_warnings(&self) -> Vec<Warning> {
+        let mut warnings: Vec<Warning> = self
+            .warnings
+            .iter()
+            .map(|w| Warning {
+                line: w.at.line,
+                column: w.at.column,
+                message: match w.at.file {
+                    0 => w.message.clone(),
+                    f => format!("(in {}) {}", self.file_name(f), w.message),
+                },
+            })
+            .collect();
+        warnings.truncate(crate::limits::MAX_WARNINGS);
+        warnings
+    }
+
+    /// An error at `at`.
+    pub(super) fn error(&self, at: Location, message: String) -> AffError {
+        AffError {
+            file: self.file_name(at.file).to_string(),
+            error: ParseError::new(at.line, at.column, ParseErrorKind::Invalid(message)),
+        }
+    }
+}
+
+/// The lengths of what [`AffScene::check_finite`] checks: polygon vertices, patch
+/// vertices and normals, mesh vertices, spheres, cones.
+fn lengths(s: &Scene) -> [usize; 6] {
+    [
+        s.polygon_vertices.len(),
+        s.patch_vertices.len(),
+        s.patch_normals.len(),
+        s.mesh_vertices.len(),
+        s.spheres.len(),
+        s.cones.len(),
+    ]
+}
+
+/// Adds a triangular patch unless it has no area.
+fn push_patch(out: &mut Scene, corners: [Vec3; 3], normals: [Vec3; 3], material: u32, line: u32) {
+    if !has_area(&corners) {
+        return;
+    }
+    out.patches.push(Patch {
+        first: out.patch_vertices.len() as u32,
+        count: 3,
+        material,
+        line,
+    });
+    out.patch_vertices.extend(corners);
+    out.patch_normals.extend(normals);
+}
+
+/// True unless the points lie (nearly) on a line or at one point: NFF's test of a
+/// polygon worth keeping.
+fn has_area(points: &[Vec3]) -> bool {
+    !is_degenerate(points)
+}
