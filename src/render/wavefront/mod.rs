@@ -32,31 +32,30 @@ mod smooth;
 use lanes::LANES;
 use smooth::Vertices8;
 
-use super::bsdf::SmoothLobes;
 use super::integrator::{NoRecord, Streams, TraceContext};
 use super::path::{PathState, PathTracer, Scatter, ShadowQuery};
 use super::rows::EyeBlock;
+use super::sampling::SampleId;
 use super::stats::Stage;
 use crate::accel::{Aggregate, Coherence, Ray8, PACKET};
 use crate::geometry::Hit;
-use crate::math::{Ray, Vec3};
+use crate::math::Vec3;
 
 /// One round's queues, reused from round to round.
 #[derive(Default)]
 struct Queues {
     /// Paths still going, by index into the block, and their segments' hits.
     active: Vec<(u32, Option<(Hit, u32)>)>,
-    /// Paths at a vertex where they scatter, as they arrive and grouped by material.
+    /// Paths at a vertex where they scatter, as they arrive, and their positions
+    /// ordered by material.
     scatter: Vec<(u32, Scatter)>,
-    sorted: Vec<(u32, Scatter)>,
+    order: Vec<u32>,
     /// Light samples waiting for their shadow rays.
     shadows: Vec<(u32, ShadowQuery)>,
     /// Whether each shadow ray is blocked.
     blocked: Vec<bool>,
-    /// Paths going on to a next segment, its ray and its closest hit.
+    /// Paths going on to a next segment.
     next: Vec<u32>,
-    rays: Vec<Ray>,
-    hits: Vec<Option<(Hit, u32)>>,
 }
 
 impl Streams for PathTracer<'_> {
@@ -78,32 +77,19 @@ impl Streams for PathTracer<'_> {
             }
             q.active.clear();
             // Vertices grouped by material (and side), for eight-lane shading.
-            sort_by_material(&mut q.scatter, &mut q.sorted);
+            sort_by_material(&q.scatter, &mut q.order);
             clock = ctx.stages.add(Stage::Arrive, arriving, clock);
             // light
-            for group in groups(&q.sorted) {
-                match self.smooth_lobes(group) {
-                    Some(lobes) => {
-                        for at in group.chunks(LANES) {
-                            let v = Vertices8 {
-                                at,
-                                ids: &block.ids,
-                                lobes,
-                            };
-                            self.light_queries8(&v, &paths, ctx, &mut q.shadows);
-                        }
-                    }
-                    None => {
-                        for (i, at) in group {
-                            let i = *i as usize;
-                            if let Some(query) = self.light_query(&paths[i], at, &block.ids[i], ctx) {
-                                q.shadows.push((i as u32, query));
-                            }
-                        }
+            let (scatter, order, ids) = (&q.scatter, &q.order, &block.ids);
+            self.each_group(scatter, order, ids, |group| match group {
+                Group::Lanes(v) => self.light_queries8(&v, &paths, ctx, &mut q.shadows),
+                Group::One(i, at) => {
+                    if let Some(query) = self.light_query(&paths[i as usize], at, &ids[i as usize], ctx) {
+                        q.shadows.push((i, query));
                     }
                 }
-            }
-            clock = ctx.stages.add(Stage::Light, q.sorted.len(), clock);
+            });
+            clock = ctx.stages.add(Stage::Light, scatter.len(), clock);
             // shadows
             occluded(accel, &q.shadows, &mut q.blocked);
             for ((i, query), &blocked) in q.shadows.iter().zip(&q.blocked) {
@@ -113,48 +99,70 @@ impl Streams for PathTracer<'_> {
             q.shadows.clear();
             // bounce
             q.next.clear();
-            for group in groups(&q.sorted) {
-                match self.smooth_lobes(group) {
-                    Some(lobes) => {
-                        for at in group.chunks(LANES) {
-                            let v = Vertices8 {
-                                at,
-                                ids: &block.ids,
-                                lobes,
-                            };
-                            self.bounces8(&v, &mut paths, ctx, &mut q.next);
-                        }
-                    }
-                    None => {
-                        for (i, at) in group {
-                            let path = &mut paths[*i as usize];
-                            if self.bounce(path, at, &block.ids[*i as usize], ctx, &mut NoRecord) {
-                                q.next.push(*i);
-                            }
-                        }
+            self.each_group(scatter, order, ids, |group| match group {
+                Group::Lanes(v) => self.bounces8(&v, &mut paths, ctx, &mut q.next),
+                Group::One(i, at) => {
+                    if self.bounce(&mut paths[i as usize], at, &ids[i as usize], ctx, &mut NoRecord) {
+                        q.next.push(i);
                     }
                 }
-            }
-            clock = ctx.stages.add(Stage::Bounce, q.sorted.len(), clock);
-            // extend
-            q.rays.clear();
-            q.rays.extend(q.next.iter().map(|&i| paths[i as usize].ray));
-            closest_hits(accel, &q.rays, &mut q.hits);
-            q.active
-                .extend(q.next.iter().copied().zip(q.hits.iter().copied()));
-            ctx.stages.add(Stage::Extend, q.rays.len(), clock);
+            });
+            clock = ctx.stages.add(Stage::Bounce, scatter.len(), clock);
+            q.scatter.clear();
+            // extend: ray by ray (on incoherent rays the single-ray walk beats the
+            // mixed packet walk; `nffrt bench`'s random rays, BENCHMARKS.md)
+            q.active.extend(
+                q.next
+                    .iter()
+                    .map(|&i| (i, accel.closest_hit(&paths[i as usize].ray, f32::INFINITY))),
+            );
+            ctx.stages.add(Stage::Extend, q.next.len(), clock);
         }
         out.extend(paths.iter().map(|p| p.radiance));
     }
 }
 
 impl PathTracer<'_> {
-    /// The smooth lobes of the material of a group of vertices (one material, one
-    /// side), if it has only smooth diffuse and mirror lobes.
-    fn smooth_lobes(&self, group: &[(u32, Scatter)]) -> Option<SmoothLobes> {
-        let at = &group.first()?.1;
-        self.bsdf(at.material, at.entering).smooth_lobes()
+    /// Hands the vertices `scatter` to a step, grouped by material and side as
+    /// `order` lists them: eight at a time where the material has only smooth
+    /// lobes, else one at a time (with its path's index).
+    fn each_group<'v>(
+        &self,
+        scatter: &'v [(u32, Scatter)],
+        order: &'v [u32],
+        ids: &'v [SampleId],
+        mut step: impl FnMut(Group<'v>),
+    ) {
+        let key = |&pick: &u32| material_key(&scatter[pick as usize].1);
+        for group in order.chunk_by(|a, b| key(a) == key(b)) {
+            let at = &scatter[group[0] as usize].1;
+            match self.bsdf(at.material, at.entering).smooth_lobes() {
+                Some(lobes) => {
+                    for picks in group.chunks(LANES) {
+                        step(Group::Lanes(Vertices8 {
+                            scatter,
+                            picks,
+                            ids,
+                            lobes,
+                        }));
+                    }
+                }
+                None => {
+                    for &pick in group {
+                        let (i, at) = &scatter[pick as usize];
+                        step(Group::One(*i, at));
+                    }
+                }
+            }
+        }
     }
+}
+
+/// What [`PathTracer::each_group`] hands a step: up to eight vertices of a smooth
+/// material, or one vertex (and its path's index).
+enum Group<'v> {
+    Lanes(Vertices8<'v>),
+    One(u32, &'v Scatter),
 }
 
 /// The key vertices are grouped by: their material, and the side it is met from.
@@ -163,52 +171,27 @@ fn material_key(at: &Scatter) -> usize {
     2 * at.material as usize + usize::from(at.entering)
 }
 
-/// `scatter` into `sorted` by material and side (a stable counting sort), emptying
-/// `scatter`.
-fn sort_by_material(scatter: &mut Vec<(u32, Scatter)>, sorted: &mut Vec<(u32, Scatter)>) {
-    sorted.clear();
-    let Some(&fill) = scatter.first() else {
-        return;
-    };
+/// The positions of `scatter`'s vertices ordered by material and side (a stable
+/// counting sort), into `order`.
+fn sort_by_material(scatter: &[(u32, Scatter)], order: &mut Vec<u32>) {
+    order.clear();
     let keys = scatter
         .iter()
         .map(|(_, at)| material_key(at))
         .max()
         .map_or(0, |k| k + 1);
     let mut starts = vec![0usize; keys + 1];
-    for (_, at) in scatter.iter() {
+    for (_, at) in scatter {
         starts[material_key(at) + 1] += 1;
     }
     for k in 1..=keys {
         starts[k] += starts[k - 1];
     }
-    sorted.resize(scatter.len(), fill);
-    for entry in scatter.drain(..) {
-        let key = material_key(&entry.1);
-        sorted[starts[key]] = entry;
+    order.resize(scatter.len(), 0);
+    for (pick, (_, at)) in scatter.iter().enumerate() {
+        let key = material_key(at);
+        order[starts[key]] = pick as u32;
         starts[key] += 1;
-    }
-}
-
-/// The runs of vertices of one material and side in `sorted`.
-fn groups(sorted: &[(u32, Scatter)]) -> impl Iterator<Item = &[(u32, Scatter)]> {
-    sorted.chunk_by(|a, b| material_key(&a.1) == material_key(&b.1))
-}
-
-/// The closest hits of `rays`, eight rays of any directions at a time.
-fn closest_hits(accel: &Aggregate, rays: &[Ray], out: &mut Vec<Option<(Hit, u32)>>) {
-    out.clear();
-    for packet in rays.chunks(PACKET) {
-        let mut hits = [None; PACKET];
-        let active = (1 << packet.len()) - 1;
-        accel.closest_hits8(
-            &Ray8::new(packet),
-            f32::INFINITY,
-            active,
-            Coherence::Mixed,
-            &mut hits,
-        );
-        out.extend_from_slice(&hits[..packet.len()]);
     }
 }
 

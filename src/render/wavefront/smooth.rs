@@ -19,8 +19,10 @@ use crate::render::sampling::{Dim, SampleId};
 
 /// Up to eight vertices of one material and side, and their paths' samples.
 pub(super) struct Vertices8<'a> {
-    /// The vertices: each path's index in the block and its vertex.
-    pub at: &'a [(u32, Scatter)],
+    /// The round's vertices: each path's index in the block and its vertex.
+    pub scatter: &'a [(u32, Scatter)],
+    /// Those of `scatter` taken, by position.
+    pub picks: &'a [u32],
     /// Every path's sample, by index in the block.
     pub ids: &'a [SampleId],
     /// The material's lobes.
@@ -29,15 +31,20 @@ pub(super) struct Vertices8<'a> {
 
 impl Vertices8<'_> {
     fn len(&self) -> usize {
-        self.at.len()
+        self.picks.len()
+    }
+
+    /// Vertex `k`'s path, by index in the block.
+    fn path(&self, k: usize) -> usize {
+        self.scatter[self.picks[k] as usize].0 as usize
     }
 
     fn vertex(&self, k: usize) -> &Scatter {
-        &self.at[k].1
+        &self.scatter[self.picks[k] as usize].1
     }
 
     fn id(&self, k: usize) -> &SampleId {
-        &self.ids[self.at[k].0 as usize]
+        &self.ids[self.path(k)]
     }
 
     fn frame(&self) -> Frame8 {
@@ -95,7 +102,7 @@ impl PathTracer<'_> {
         let (mut point, mut incoming) = ([Vec3::ZERO; LANES], [Vec3::ZERO; LANES]);
         let (mut light_pdf, mut has_pdf) = ([0.0f32; LANES], [0.0f32; LANES]);
         for k in 0..n {
-            let (id, depth) = (v.id(k), paths[v.at[k].0 as usize].depth);
+            let (id, depth) = (v.id(k), paths[v.path(k)].depth);
             let Some((emitter, pmf)) = emitters.choose(id.value(Dim::LightChoice { depth })) else {
                 continue;
             };
@@ -129,16 +136,16 @@ impl PathTracer<'_> {
         let weight =
             f32x8::from(has_pdf).bitselect(power_heuristic8(f32x8::from(light_pdf), bsdf_pdf), f32x8::ONE);
         let contribution = f_cos.mul_elem(V3x8::gather(n, |k| incoming[k])) * weight;
-        let throughput = V3x8::gather(n, |k| paths[v.at[k].0 as usize].throughput);
+        let throughput = V3x8::gather(n, |k| paths[v.path(k)].throughput);
         let gain = throughput.mul_elem(contribution);
         let (start, contribution, gain) = (start.lanes(), contribution.lanes(), gain.lanes());
         let weight = weight.to_array();
         let shoot = drawn & bits(lit);
         for k in (0..n).filter(|k| shoot >> k & 1 != 0) {
-            let (i, time) = (v.at[k].0, paths[v.at[k].0 as usize].ray.time);
+            let (i, time) = (v.path(k), paths[v.path(k)].ray.time);
             ctx.stats.shadow_rays += 1;
             out.push((
-                i,
+                i as u32,
                 ShadowQuery {
                     ray: Ray::with_time(start[k], point[k] - start[k], time),
                     t_max: 1.0 - SHADOW_SHORTFALL,
@@ -165,8 +172,8 @@ impl PathTracer<'_> {
         ctx.stages.lanes_filled += n as u64;
         let [pd, pm] = v.lobes.choice;
         let needs_lobe = !matches!(v.lobes.choice, [1.0, 0.0] | [0.0, 1.0]);
-        let depth = paths[v.at[0].0 as usize].depth;
-        debug_assert!(v.at.iter().all(|(i, _)| paths[*i as usize].depth == depth));
+        let depth = paths[v.path(0)].depth;
+        debug_assert!((0..n).all(|k| paths[v.path(k)].depth == depth));
         let lobe = gather1(n, |k| {
             if needs_lobe {
                 v.id(k).value(Dim::Lobe { depth })
@@ -198,7 +205,7 @@ impl PathTracer<'_> {
         let sampled = (diffuse & spread) | mirror;
         let frame = v.frame();
         let dir = frame.to_world(wi);
-        let mut throughput = V3x8::gather(n, |k| paths[v.at[k].0 as usize].throughput).mul_elem(weight);
+        let mut throughput = V3x8::gather(n, |k| paths[v.path(k)].throughput).mul_elem(weight);
         let normal = V3x8::gather(n, |k| v.vertex(k).n);
         let start = V3x8::select(dir.dot(normal).simd_gt(f32x8::ZERO), v.side(0), v.side(1));
         let mut going = sampled;
@@ -214,11 +221,11 @@ impl PathTracer<'_> {
         let (dir, start, throughput, pdf) = (dir.lanes(), start.lanes(), throughput.lanes(), pdf.to_array());
         let delta = bits(!diffuse);
         for k in 0..n {
-            let i = v.at[k].0;
-            let path = &mut paths[i as usize];
+            let i = v.path(k);
+            let path = &mut paths[i];
             if elsewhere >> k & 1 != 0 {
                 if self.bounce(path, v.vertex(k), v.id(k), ctx, &mut NoRecord) {
-                    next.push(i);
+                    next.push(i as u32);
                 }
                 continue;
             }
@@ -231,7 +238,7 @@ impl PathTracer<'_> {
             path.depth = depth;
             if going >> k & 1 != 0 {
                 path.ray = Ray::with_time(start[k], dir[k], path.ray.time);
-                next.push(i);
+                next.push(i as u32);
             }
         }
     }
