@@ -149,7 +149,7 @@ impl Finish {
         if let Some((denoiser, quality)) = &self.denoiser {
             let t1 = Instant::now();
             finished.image = denoiser
-                .denoise(&finished.image, &aovs.albedo, &aovs.normal, *quality)
+                .denoise_render(&finished.image, &aovs, opts, *quality)
                 .map_err(|e| CliError::io(format!("--denoise: {e}")))?;
             finished.denoise_s = Some(t1.elapsed().as_secs_f64());
         }

@@ -18,6 +18,9 @@ use thiserror::Error;
 
 use crate::image::Image;
 use crate::math::Vec3;
+use crate::options::RenderOptions;
+use crate::render::Aovs;
+use crate::scene::IntegratorKind;
 use ffi::Oidn;
 
 /// The oldest library accepted: version 2.0.0 (`RT` with `cleanAux`, shared images
@@ -200,6 +203,45 @@ impl Denoiser {
             .map(|c| Vec3::new(c[0], c[1], c[2]))
             .collect();
         Ok(Image::from_pixels(w, h, pixels))
+    }
+
+    /// `image`, rendered with `opts`, denoised with its `aovs` as guides. A
+    /// path-traced picture's directly seen emitters and background
+    /// ([`Aovs::emission`]: what its camera rays meet and add as they are, without
+    /// noise) are set apart and added back after the filter, which would otherwise
+    /// spread a lamp's bright edge over the wall beside it.
+    pub fn denoise_render(
+        &self,
+        image: &Image,
+        aovs: &Aovs,
+        opts: &RenderOptions,
+        quality: Quality,
+    ) -> Result<Image, DenoiseError> {
+        if opts.integrator != IntegratorKind::Path {
+            return self.denoise(image, &aovs.albedo, &aovs.normal, quality);
+        }
+        let emitted = &aovs.emission;
+        if (emitted.width, emitted.height) != (image.width, image.height) {
+            return Err(DenoiseError::Size(
+                image.width,
+                image.height,
+                emitted.width,
+                emitted.height,
+            ));
+        }
+        let zero_floor = |v: Vec3| Vec3::new(v.x.max(0.0), v.y.max(0.0), v.z.max(0.0));
+        let rest = image
+            .pixels
+            .iter()
+            .zip(&emitted.pixels)
+            .map(|(&c, &e)| zero_floor(c - e))
+            .collect();
+        let rest = Image::from_pixels(image.width, image.height, rest);
+        let mut clean = self.denoise(&rest, &aovs.albedo, &aovs.normal, quality)?;
+        for (c, &e) in clean.pixels.iter_mut().zip(&emitted.pixels) {
+            *c += e;
+        }
+        Ok(clean)
     }
 }
 

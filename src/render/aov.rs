@@ -13,7 +13,11 @@
 //! - **normal**: the mean of the first hit's shading normal (world space, unit
 //!   length), turned to face the ray; zero for a sample that meets nothing;
 //! - **depth**: the mean distance from the camera to the first hit over the samples
-//!   that meet something; infinity where none does.
+//!   that meet something; infinity where none does;
+//! - **emission** (for the denoiser, not written): the mean of what the first hit
+//!   emits towards the camera (its emission on the side of its own normal) or, for a
+//!   sample that meets nothing, the background: the part of a path-traced pixel
+//!   that its camera rays see directly, without noise.
 //!
 //! Like every picture nffrt makes, the same whatever the thread count or tiling.
 
@@ -69,6 +73,9 @@ pub struct Aovs {
     pub normal: Image,
     /// The mean distance to the first hits; infinity where no sample hit.
     pub depth: Vec<f32>,
+    /// The mean radiance the first hits emit towards the camera (the background
+    /// for misses): what a path tracer adds to the pixel at its first vertex.
+    pub emission: Image,
 }
 
 /// What one eye sample meets first.
@@ -77,6 +84,7 @@ struct FirstHit {
     albedo: Vec3,
     normal: Vec3,
     depth: Option<f32>,
+    emission: Vec3,
 }
 
 /// One pixel's sums over its samples.
@@ -86,6 +94,7 @@ struct Sums {
     normal: Vec3,
     depth: f32,
     hits: u32,
+    emission: Vec3,
 }
 
 /// The AOVs of `region` of the render of `scene` seen by `view` with `opts`, over
@@ -156,6 +165,7 @@ pub fn render_aovs(
                 }
             })
             .collect(),
+        emission: image(|s| s.emission),
     })
 }
 
@@ -163,6 +173,7 @@ impl Sums {
     fn add(&mut self, first: FirstHit) {
         self.albedo += first.albedo;
         self.normal += first.normal;
+        self.emission += first.emission;
         if let Some(d) = first.depth {
             self.depth += d;
             self.hits += 1;
@@ -192,10 +203,12 @@ fn first_hits(
 /// What `ray`, whose closest hit is `found`, meets first.
 fn first_hit(scene: &RenderScene, ray: &Ray, found: Option<(Hit, u32)>) -> FirstHit {
     let Some((hit, index)) = found else {
+        let sky = scene.background().color(ray.dir);
         return FirstHit {
-            albedo: clamp01(scene.background().color(ray.dir)),
+            albedo: clamp01(sky),
             normal: Vec3::ZERO,
             depth: None,
+            emission: sky,
         };
     };
     let prim = scene.primitive(index);
@@ -205,10 +218,14 @@ fn first_hit(scene: &RenderScene, ray: &Ray, found: Option<(Hit, u32)>) -> First
     } else {
         surface.shading_normal
     };
+    let m = &scene.materials()[prim.material as usize];
+    // Emitted on the side of the primitive's own normal, as path tracing has it.
+    let facing = surface.normal.dot(ray.dir) < 0.0;
     FirstHit {
-        albedo: albedo(&scene.materials()[prim.material as usize]),
+        albedo: albedo(m),
         normal,
         depth: Some(hit.t * ray.dir.length()),
+        emission: if facing { m.emission } else { Vec3::ZERO },
     }
 }
 
@@ -257,6 +274,12 @@ mod tests {
         assert_eq!(a.albedo.get(0, 0), Vec3::new(0.0, 0.0, 0.5));
         assert_eq!(a.normal.get(0, 0), Vec3::ZERO);
         assert_eq!(a.depth[0], f32::INFINITY);
+        assert_eq!(
+            a.emission.get(0, 0),
+            Vec3::new(0.0, 0.0, 0.5),
+            "a miss sees the background"
+        );
+        assert_eq!(a.emission.get(4, 4), Vec3::ZERO, "the sphere emits nothing");
     }
 
     #[test]
