@@ -532,13 +532,14 @@ mod tests {
             v in prop::array::uniform10(finite()),
             w in 0u32..5000, h in 0u32..5000, depth in 0u32..80, spp in 0u32..5000,
             lens: bool, soft: bool, rough: bool, path: bool, shutter in prop::array::uniform2(finite()),
+            denoise: bool,
         ) {
             let msg = ClientMessage::Render {
                 camera: CameraMsg { from: [v[0], v[1], v[2]], at: [v[3], v[4], v[5]], up: [v[6], v[7], v[8]], angle: v[9] },
                 options: OptionsMsg {
                     width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft, rough,
                     integrator: if path { IntegratorKind::Path } else { IntegratorKind::Whitted }, shutter,
-                    accel: Accel::None,
+                    accel: Accel::None, denoise,
                 },
             };
             match parse_client_message(&serde_json::to_string(&msg).unwrap()) {
