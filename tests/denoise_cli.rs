@@ -10,10 +10,8 @@
 //! `NFFRT_REQUIRE_OIDN=1`, which makes such a skip a failure.
 
 mod common;
-#[path = "common/skip.rs"]
-mod skip;
 
-use common::{nffrt, nffrt_env, scratch_dir};
+use common::{nffrt, nffrt_env, scratch_dir, skip};
 use nffrt::image::{decode_exr_channels, decode_pfm, decode_png};
 
 /// A red sphere of radius 1 at the origin seen from z = 5 on a blue background:
@@ -210,7 +208,9 @@ fn eight_bit_pictures_take_the_encoding_of_their_integrator_or_the_one_asked_for
         (e * 255.0).round() as u8
     };
     let linear = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-    let cases: [(&str, &[&str], &dyn Fn(f32) -> u8, &str); 5] = [
+    // (scene, flags, the curve from a linear value to its byte, the encoding's name)
+    type Case<'a> = (&'a str, &'a [&'a str], &'a dyn Fn(f32) -> u8, &'a str);
+    let cases: [Case; 5] = [
         (CORNELL, &["--spp", "4"], &gamma, "gamma2.2"),
         (
             nff.to_str().unwrap(),

@@ -122,9 +122,11 @@ impl Denoiser {
     pub fn open(extra_dirs: &[PathBuf], threads: u32) -> Result<Denoiser, DenoiseError> {
         let given = std::env::var_os(search::ENV_VAR).is_some_and(|v| !v.is_empty());
         for (k, path) in search::candidates(extra_dirs).into_iter().enumerate() {
-            // A guessed file that is not there is skipped without trying it.
+            // A guessed file that is not there is skipped without trying it (a bare
+            // name goes to the system's search, and NFFRT_OIDN is tried to say why).
             let bare = path.components().count() == 1;
-            if !bare && !path.exists() && !(given && k == 0) {
+            let tried = bare || path.exists() || (given && k == 0);
+            if !tried {
                 continue;
             }
             match Oidn::open(&path, threads) {

@@ -83,7 +83,7 @@ fn versioned_sites(root: &Path) -> Vec<PathBuf> {
             Some((minor, e.path()))
         })
         .collect();
-    pythons.sort_by(|a, b| b.0.cmp(&a.0));
+    pythons.sort_by_key(|p| std::cmp::Reverse(p.0));
     pythons
         .into_iter()
         .flat_map(|(_, p)| [p.join("site-packages"), p.join("dist-packages")])

@@ -21,7 +21,7 @@ use super::protocol::{
 use super::reference::Reference;
 use super::scene::{Loaded, SceneEvent};
 use super::server::App;
-use super::worker::{Frame, Job, Outlets, Worker};
+use super::worker::{Frame, Job, Outlets, ShownPicture, Worker};
 use nffrt::geometry::SourceKind;
 use nffrt::image::{encode_png_rgb8, SOFTWARE_TEXT};
 use nffrt::options::{display_encoding, Sampling};
@@ -150,20 +150,21 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
 
 /// A message to send.
 enum Reply {
-    Json(ServerMessage),
+    /// (Boxed: a scene message is large, a binary one a pointer.)
+    Json(Box<ServerMessage>),
     Binary(Bytes),
 }
 
 impl From<ServerMessage> for Reply {
     fn from(m: ServerMessage) -> Reply {
-        Reply::Json(m)
+        Reply::Json(Box::new(m))
     }
 }
 
 fn error(message: impl Into<String>) -> Reply {
-    Reply::Json(ServerMessage::Error {
+    Reply::Json(Box::new(ServerMessage::Error {
         message: message.into(),
-    })
+    }))
 }
 
 async fn send_json(socket: &mut WebSocket, msg: &ServerMessage) -> Result<(), axum::Error> {
@@ -368,7 +369,13 @@ impl Session {
     /// `nffrt render`'s once converged).
     fn png(&self) -> Reply {
         let picture = self.worker.shown.picture.lock().ok().and_then(|p| p.clone());
-        let Some((gen, image, complete, encoding)) = picture.filter(|p| p.0 == self.gen) else {
+        let Some(ShownPicture {
+            gen,
+            image,
+            complete,
+            encoding,
+        }) = picture.filter(|p| p.gen == self.gen)
+        else {
             return error("no full-resolution picture yet");
         };
         let mut png = Vec::new();

@@ -77,9 +77,21 @@ pub struct Frame {
 /// The latest full-resolution picture (for "save PNG").
 #[derive(Default)]
 pub struct Shown {
-    /// Generation and linear image (denoised, if shown so), whether it is
-    /// converged, and its 8-bit encoding.
-    pub picture: Mutex<Option<(u64, Arc<Image>, bool, Encoding)>>,
+    /// The picture, once a pass has finished.
+    pub picture: Mutex<Option<ShownPicture>>,
+}
+
+/// A full-resolution picture shown.
+#[derive(Clone)]
+pub struct ShownPicture {
+    /// Its generation.
+    pub gen: u64,
+    /// Its linear values (denoised, if shown so).
+    pub image: Arc<Image>,
+    /// True once it has every sample.
+    pub complete: bool,
+    /// How its 8-bit values hold the linear ones.
+    pub encoding: Encoding,
 }
 
 /// Where a session's render thread sends its pictures.
@@ -284,7 +296,12 @@ fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
         let rgb = image.to_rgb8_as(job.encoding);
         let samples = acc.samples_done();
         if let Ok(mut s) = shown.picture.lock() {
-            *s = Some((job.gen, image.clone(), acc.is_complete(), job.encoding));
+            *s = Some(ShownPicture {
+                gen: job.gen,
+                image: image.clone(),
+                complete: acc.is_complete(),
+                encoding: job.encoding,
+            });
         }
         if watch.cancelled() {
             return;
