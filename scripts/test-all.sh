@@ -9,7 +9,11 @@
 #      $NFFRT_VENV, by default target/py-venv, made on first use (delete it, or
 #      point NFFRT_VENV at a new folder, for a fresh one);
 #   3. pytest python/tests against that module and the binary of step 1;
-#   4. a summary of the checks skipped, grouped by reason: every test that skips
+#   4. Open Image Denoise for the denoising tests, Rust and Python alike: the
+#      library pip's pyoidn puts in that environment, when it is there (.ci/run
+#      installs it; `$venv/bin/pip install pyoidn` does it here), through
+#      NFFRT_OIDN unless that is set already; without it those tests skip, saying so;
+#   5. a summary of the checks skipped, grouped by reason: every test that skips
 #      one (most for want of ../shared) appends `SKIPPED: <test>: <reason>` to
 #      target/skipped-tests.log (tests/common/skip.rs, python/tests/conftest.py).
 #
@@ -35,11 +39,22 @@ summary() {
 }
 trap summary EXIT
 
+venv="${NFFRT_VENV:-target/py-venv}"
+# Open Image Denoise from the tests' environment, if pip's pyoidn is in it.
+if [ -z "${NFFRT_OIDN:-}" ]; then
+    for lib in "$venv"/lib/python3*/site-packages/pyoidn/oidn/lib; do
+        if [ -d "$lib" ]; then
+            case "$lib" in /*) ;; *) lib="$PWD/$lib" ;; esac
+            export NFFRT_OIDN="$lib"
+        fi
+    done
+fi
+echo "== Open Image Denoise: ${NFFRT_OIDN:-not installed (the denoising tests skip; $venv/bin/pip install pyoidn)}"
+
 echo "== Rust: cargo test --profile test-release"
 cargo test --profile test-release
 cargo build --profile test-release --bin nffrt
 
-venv="${NFFRT_VENV:-target/py-venv}"
 echo "== Python: build and install the module into $venv"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"

@@ -23,7 +23,8 @@
 //! ```
 
 #![warn(missing_docs)]
-// No `unsafe` but in `accel::traverse::avx`, the run-time-selected AVX traversal kernels (7 % off
+// No `unsafe` but in `denoise::ffi`, the calls into Open Image Denoise's C library opened at run
+// time, in `accel::traverse::avx`, the run-time-selected AVX traversal kernels (7 % off
 // whole renders, measured in BENCHMARKS.md), and in `pages`, one `madvise` asking for huge pages
 // under the big arrays of the geometry and the BVH (+16 to +25 % rays per second on a 524 288-
 // triangle mount, BENCHMARKS.md), each allowing it for itself alone.
@@ -32,6 +33,7 @@
 pub mod accel;
 pub mod aff;
 pub mod compare;
+pub mod denoise;
 pub mod fingerprint;
 pub mod gen;
 pub mod geometry;

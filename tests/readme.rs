@@ -41,7 +41,8 @@ fn options(sub: &str) -> Vec<Vec<String>> {
             l.split([' ', ','])
                 .take_while(|w| w.is_empty() || w.starts_with('-'))
                 .filter(|w| !w.is_empty())
-                .map(str::to_string)
+                // An optional value is part of the spelling in the help: `--denoise[=<QUALITY>]`.
+                .map(|w| w.split("[=").next().unwrap_or(w).to_string())
                 .collect::<Vec<String>>()
         })
         .filter(|names| !names.iter().any(|n| n == "--help" || n == "--version"))

@@ -102,7 +102,8 @@ fn srgb_tiles_merge_alike_and_not_with_linear_ones() {
     let (code, err) = merge_in(&dir, &["bottom.png", "top.png"]);
     assert_eq!(code, Some(3), "{err}");
     assert!(
-        err.contains("top.png was written with --srgb and") && err.contains("bottom.png without"),
+        err.contains("top.png was written with --encoding srgb and")
+            && err.contains("bottom.png with --encoding linear"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();

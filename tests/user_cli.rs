@@ -293,7 +293,8 @@ fn srgb_encodes_the_8_bit_formats_only() {
         assert_eq!(o.status.code(), Some(2));
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(
-            err.contains("holds linear floats; sRGB encoding is for 8-bit .png and .ppm"),
+            err.contains("--encoding srgb: ")
+                && err.contains("holds linear floats; encodings are for 8-bit .png and .ppm"),
             "{err}"
         );
         assert!(!out.exists());

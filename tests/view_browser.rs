@@ -625,3 +625,148 @@ fn the_integrator_roughness_and_shutter_switch_and_a_path_tracing_pixel_shows_it
     let (none, _) = browser.next_picture(gen);
     assert_eq!(none, short, "the scan renders the BVH's picture");
 }
+
+impl Browser {
+    /// True if the picture's canvas holds exactly the 8-bit pixels of the global
+    /// `expression` (compare.js's `reference`, `flipMap`).
+    fn canvas_shows(&self, expression: &str) -> bool {
+        let same = self.run(&format!(
+            "const c = document.getElementById('picture'), shown = {expression};\n\
+             const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;\n\
+             if (!shown || shown.rgb.length * 4 !== d.length * 3) return false;\n\
+             for (let i = 0, j = 0; j < d.length; i += 3, j += 4)\n\
+               if (d[j] !== shown.rgb[i] || d[j + 1] !== shown.rgb[i + 1] || d[j + 2] !== shown.rgb[i + 2]) return false;\n\
+             return true;"
+        ));
+        same == json!(true)
+    }
+}
+
+/// The Cornell box (examples/cornell.p3f, path-traced) at 96 x 96.
+fn small_cornell() -> String {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/cornell.p3f")).unwrap();
+    text.replace("resolution 256 256", "resolution 96 96")
+}
+
+/// A reference beside the live picture: `--reference` at start, each pass measured
+/// (FLIP falls as samples accumulate, plotted), A/B shows exactly the reference, the
+/// FLIP map exactly the last pass's map, the file picker loads another (a float
+/// one: HDR-FLIP); the denoise switch shows denoised frames while the samples
+/// accumulate (greyed out, and skipped saying so, without Open Image Denoise).
+#[test]
+fn a_reference_flips_against_the_live_picture_with_its_flip_map_and_error_plot() {
+    let Some((driver, shots, work)) = setup("compare") else {
+        return;
+    };
+    let file = work.join("cornell.p3f");
+    std::fs::write(&file, small_cornell()).unwrap();
+    let (reference, float_reference) = (work.join("ref.png"), work.join("ref.pfm"));
+    for (out, spp) in [(&reference, "256"), (&float_reference, "64")] {
+        let made = Command::new(env!("CARGO_BIN_EXE_nffrt"))
+            .args([
+                "render",
+                file.to_str().unwrap(),
+                "--spp",
+                spp,
+                "-q",
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .status()
+            .unwrap();
+        assert!(made.success());
+    }
+    let server = Server::start(
+        &file,
+        &["--spp", "16", "--reference", reference.to_str().unwrap()],
+    );
+    let browser = Browser::start(&driver, &work.join("profile"));
+    browser.cmd("POST", "url", json!({"url": server.url}));
+    browser.wait_for(
+        "document.body.dataset.reference === '96x96' && document.body.dataset.complete === 'true' \
+         && Number(document.body.dataset.scores) >= 5",
+    );
+    let scores = browser.run("return scores.map((s) => [s.samples, s.mean]);");
+    let scores: Vec<(u64, f64)> = serde_json::from_value(scores).unwrap();
+    assert_eq!(scores.iter().map(|s| s.0).collect::<Vec<_>>(), [1, 2, 4, 8, 16]);
+    assert!(
+        scores[0].1 > scores[4].1 && scores[4].1 > 0.0,
+        "FLIP falls: {scores:?}"
+    );
+    let plotted = browser.run(
+        "const p = document.getElementById('plot'), d = p.getContext('2d').getImageData(0, 0, p.width, p.height).data;\n\
+         let n = 0; for (let i = 0; i < d.length; i += 4) n += d[i] === 0x7c && d[i + 1] === 0xc4; return n;",
+    );
+    assert!(
+        plotted.as_u64().is_some_and(|n| n > 30),
+        "the plot's line: {plotted}"
+    );
+
+    // A/B: the reference, exactly; the FLIP map, exactly; back to the live picture.
+    browser.click("view-ab");
+    browser.wait_for("document.body.dataset.view === 'reference'");
+    assert!(browser.canvas_shows("reference"), "A/B shows the reference");
+    browser.screenshot(&shots.join("6-reference.png"));
+    browser.click("show-flip");
+    browser.wait_for("document.body.dataset.view === 'flip'");
+    assert!(browser.canvas_shows("flipMap"), "the FLIP map is shown");
+    browser.screenshot(&shots.join("7-flip-map.png"));
+    browser.click("show-flip");
+    browser.wait_for("document.body.dataset.view === 'live'");
+    assert!(
+        browser.canvas_shows("{rgb: lastLive.rgb}"),
+        "the live picture again"
+    );
+
+    // The file picker: a float reference, measured by HDR-FLIP.
+    let picker = browser.cmd(
+        "POST",
+        "element",
+        json!({"using": "css selector", "value": "#reference-file"}),
+    );
+    let picker = picker[ELEMENT].as_str().unwrap().to_string();
+    browser.cmd(
+        "POST",
+        &format!("element/{picker}/value"),
+        json!({"text": float_reference.to_str().unwrap()}),
+    );
+    // (A new reference starts the count again.)
+    browser.wait_for(
+        "document.getElementById('reference-name').textContent.startsWith('ref.pfm: 96×96, HDR-FLIP') \
+         && Number(document.body.dataset.scores) >= 5 && document.body.dataset.complete === 'true'",
+    );
+
+    // Denoised frames while the samples accumulate.
+    let denoiser = browser.run("return scene.denoiser;");
+    if denoiser.is_null() {
+        assert_eq!(
+            browser.run("return document.getElementById('denoise').disabled;"),
+            json!(true)
+        );
+        skip::skip_unless_required(
+            "NFFRT_REQUIRE_OIDN",
+            "Open Image Denoise is not installed (pip install pyoidn, or NFFRT_OIDN)",
+        );
+        return;
+    }
+    let gen = browser
+        .run("return Number(document.body.dataset.gen);")
+        .as_u64()
+        .unwrap();
+    let noisy = browser.run("return scores.map((s) => s.mean);");
+    let noisy: Vec<f64> = serde_json::from_value(noisy).unwrap();
+    browser.click("denoise");
+    browser.wait_for(&format!(
+        "Number(document.body.dataset.gen) > {gen} && document.body.dataset.denoised === 'true' \
+         && document.body.dataset.complete === 'true' && scores.filter((s) => s.denoised).length >= 5"
+    ));
+    let denoised = browser.run("return scores.filter((s) => s.denoised).map((s) => s.mean);");
+    let denoised: Vec<f64> = serde_json::from_value(denoised).unwrap();
+    let all = browser.run("return JSON.stringify(scores);");
+    assert_eq!(denoised.len(), 5, "every pass measured denoised: {all}");
+    assert!(
+        denoised[0] < noisy[0],
+        "one sample denoised is closer: {denoised:?} against {noisy:?}"
+    );
+    browser.screenshot(&shots.join("8-denoised.png"));
+}

@@ -192,8 +192,9 @@ fn malformed_and_oversize_messages_get_an_error_and_the_server_lives_on() {
         reply["message"].as_str().unwrap().contains("too large"),
         "{reply}"
     );
-    // Past the socket's limit: this connection is closed, the server is not.
-    c.send_text_to_be_refused(&"x".repeat(2 << 20));
+    // Past the socket's limit (a reference picture's, 32 MiB): this connection is
+    // closed, the server is not.
+    c.send_text_to_be_refused(&"x".repeat(33 << 20));
     assert!(matches!(c.recv(), Msg::Closed));
     assert!(server.alive());
     let mut again = server.connect();
@@ -201,6 +202,89 @@ fn malformed_and_oversize_messages_get_an_error_and_the_server_lives_on() {
     again.send(&render_msg(&scene["camera"], 16, 12, 1));
     let gen = again.until_json("view", |_| {})["gen"].as_u64().unwrap();
     again.until_complete(gen, |_| {});
+}
+
+/// A reference picture sent as the file picker sends it: garbage and bad framing
+/// get an error and change nothing; a real one is announced, shown, and every
+/// finished pass of a picture of its size is measured against it, the error
+/// falling as the samples grow (FLIP of the converged picture against itself: 0).
+#[test]
+fn a_reference_is_loaded_and_each_pass_measured_against_it() {
+    let dir = scratch("reference");
+    let reference = rendered(&showcase(), 32, 24, 16, &dir.join("ref.png"));
+    let mut server = Server::start(&showcase(), &[]);
+    let mut c = server.connect();
+    let scene = scene_of(&mut c);
+    for (header, payload, says) in [
+        (
+            json!({"kind": "reference", "name": "junk.gif"}),
+            &b"GIF89a"[..],
+            "not a PNG, PPM, PFM or OpenEXR",
+        ),
+        (
+            json!({"kind": "other", "name": "x"}),
+            &reference[..],
+            "bad reference upload",
+        ),
+        (
+            json!({"kind": "reference"}),
+            &reference[..],
+            "bad reference upload",
+        ),
+        (
+            json!({"kind": "reference", "name": "cut.png"}),
+            &reference[..40],
+            "not a usable picture",
+        ),
+    ] {
+        c.send_binary(&header, payload);
+        let reply = c.until_json("error", |_| {});
+        assert!(
+            reply["message"].as_str().unwrap().contains(says),
+            "{header}: {reply}"
+        );
+    }
+    assert!(server.alive());
+    c.send_binary(&json!({"kind": "reference", "name": "ref.png"}), &reference);
+    let announced = c.until_json("reference", |_| {});
+    let shown = match c.recv() {
+        Msg::Binary(h, rgb) if h["kind"] == "reference" => rgb,
+        other => panic!("the reference's pixels next, not {other:?}"),
+    };
+    assert_eq!(
+        (
+            &announced["name"],
+            &announced["width"],
+            &announced["height"],
+            &announced["mode"]
+        ),
+        (&json!("ref.png"), &json!(32), &json!(24), &json!("ldr"))
+    );
+    // The same size and samples as the reference: each pass measured, down to 0.
+    c.send(&render_msg(&scene["camera"], 32, 24, 16));
+    let gen = c.until_json("view", |_| {})["gen"].as_u64().unwrap();
+    let mut measured: Vec<(u64, f64)> = Vec::new();
+    let mut converged = false;
+    while !converged || measured.last().map(|m| m.0) != Some(16) {
+        match c.recv() {
+            Msg::Binary(h, map) if h["kind"] == "flip" && h["gen"] == gen => {
+                assert_eq!(map.len(), 32 * 24 * 3, "{h}");
+                measured.push((h["samples"].as_u64().unwrap(), h["mean"].as_f64().unwrap()));
+            }
+            Msg::Binary(h, _) if h["gen"] == gen && h["complete"] == true => converged = true,
+            Msg::Closed => panic!("closed"),
+            _ => {}
+        }
+    }
+    assert_eq!(shown, rgb_of_png(&reference), "the reference as sent back");
+    let samples: Vec<u64> = measured.iter().map(|m| m.0).collect();
+    assert_eq!(samples, [1, 2, 4, 8, 16]);
+    assert!(
+        measured[0].1 > 0.01,
+        "one sample is off the reference: {measured:?}"
+    );
+    assert!(measured[0].1 > measured[2].1, "{measured:?}");
+    assert_eq!(measured[4].1, 0.0, "the converged picture is the reference");
 }
 
 /// Previews, then passes of 1, 1, 2, ... samples, and the last frame is exactly

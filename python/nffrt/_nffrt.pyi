@@ -88,6 +88,7 @@ class Scene:
         light_samples: Optional[int] = None,
         seed: Optional[int] = None,
         integrator: Optional[str] = None,
+        denoise: Union[bool, str, None] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
         linear RGB, the values ``nffrt render -o X.pfm`` writes. An argument left
@@ -96,8 +97,10 @@ class Scene:
         aspect), ``max_depth`` 5; ``region=(x0, y0, x1, y1)`` renders that crop only;
         ``light_samples`` samples every area light on an N x N grid at every hit;
         ``seed`` chooses another, as deterministic, sample pattern (0: the usual
-        one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's).
-        Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
+        one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's);
+        ``denoise=True`` (or ``"fast"``, ``"balanced"``, ``"high"``) denoises the
+        whole picture with Intel Open Image Denoise (``OSError`` without it:
+        ``pip install pyoidn``). Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
     def image_size(self, width: Optional[int] = None, height: Optional[int] = None) -> Tuple[int, int]:
         """The ``(width, height)`` ``render`` makes with these arguments."""
     @property

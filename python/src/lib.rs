@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 mod array;
+mod denoise;
 mod diff;
 mod errors;
 mod run;

@@ -252,9 +252,12 @@ impl PyScene {
     /// (focal distance over |from - at|) replace the scene's lens. `light_samples`
     /// samples every area light on an N x N grid at every hit; `seed` chooses another
     /// sample pattern (0: the usual one); `integrator` is `"whitted"` or `"path"`
-    /// (default: the file's `integrator`, else Whitted's). The GIL is released while rendering;
+    /// (default: the file's `integrator`, else Whitted's). `denoise=True` (or a
+    /// quality, `"fast"`, `"balanced"`, `"high"`: True's) denoises the whole picture
+    /// with Intel Open Image Denoise as `nffrt render --denoise` does (`OSError` when
+    /// the library is not installed: `pip install pyoidn`). The GIL is released while rendering;
     /// Ctrl-C stops the render with `KeyboardInterrupt`.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None))]
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None, denoise=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -271,7 +274,15 @@ impl PyScene {
         light_samples: Option<u32>,
         seed: Option<u32>,
         integrator: Option<&str>,
+        denoise: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let quality = crate::denoise::quality(denoise)?;
+        if quality.is_some() && region.is_some() {
+            return Err(value_error(
+                "denoise works on whole pictures: not with region (a tile's denoised edges would not meet its \
+                 neighbours')",
+            ));
+        }
         let integrator = integrator
             .map(|name| name.to_ascii_lowercase().parse::<IntegratorKind>())
             .transpose()
@@ -289,7 +300,10 @@ impl PyScene {
             integrator,
             ..RenderRequest::default()
         })?;
-        let image = self.render_image(py, &opts, region, threads)?;
+        let mut image = self.render_image(py, &opts, region, threads)?;
+        if let Some(quality) = quality {
+            image = crate::denoise::denoised(py, &self.prepared, &opts, image, quality)?;
+        }
         to_array(py, &image)
     }
 

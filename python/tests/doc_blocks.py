@@ -12,7 +12,10 @@ when it cannot simply run as written:
 - ``<!-- test: in ../shared/FOLDER -->``: it runs among the files of FOLDER, and is
   skipped, saying so, without ``../shared``;
 - ``<!-- test: server -->``: it starts ``nffrt view``; it must print the URL it
-  serves, then stop cleanly on Ctrl-C (exit code 0).
+  serves, then stop cleanly on Ctrl-C (exit code 0);
+- ``<!-- test: denoiser -->``: it denoises; it runs when Open Image Denoise is
+  installed (``pip install pyoidn``, or ``NFFRT_OIDN``), and is skipped, saying
+  so, otherwise (a failure under ``NFFRT_REQUIRE_OIDN=1``, as ``.ci/run`` sets).
 
 Every other ``sh`` or ``python`` block runs as written in a scratch directory
 (test_docs.py), shell through the ``nffrt`` binary under test (``cargo run

@@ -32,7 +32,7 @@ def test_every_block_has_a_known_language_and_a_well_formed_directive() -> None:
             continue
         assert b.language != "text", f"{b.name}: a text block never runs; it needs no directive"
         kind = b.directive.split(" ", 1)[0]
-        assert kind in {"skip", "by", "in", "server"}, f"{b.name}: unknown directive {b.directive!r}"
+        assert kind in {"skip", "by", "in", "server", "denoiser"}, f"{b.name}: unknown directive {b.directive!r}"
         if kind == "skip":
             assert re.fullmatch(r"\(.+\)", b.directive_argument("skip")), f"{b.name}: skip (REASON)"
         if kind == "by":
@@ -84,11 +84,28 @@ def run_server(code: str, env: dict, cwd: Path) -> None:
             proc.wait()
 
 
+def denoiser_installed() -> bool:
+    """True if Open Image Denoise is found as ``Scene.render(denoise=...)`` looks
+    for it."""
+    import nffrt
+
+    try:
+        nffrt.parse(nffrt.gen("tetra", size=1)).render(width=4, height=4, spp=2, denoise=True)
+    except OSError:
+        return False
+    return True
+
+
 @pytest.mark.parametrize("block", RUNNABLE, ids=lambda b: b.name)
 def test_block_runs_as_written(block: Block, nffrt_bin: str, tmp_path: Path, monkeypatch) -> None:
     reason = block.directive_argument("skip")
     if reason is not None:
         pytest.skip(f"a doc block that cannot run here: {reason[1:-1]}")
+    if block.directive == "denoiser" and not denoiser_installed():
+        reason = "Open Image Denoise is not installed (pip install pyoidn, or NFFRT_OIDN)"
+        if os.environ.get("NFFRT_REQUIRE_OIDN") == "1":
+            pytest.fail(f"NFFRT_REQUIRE_OIDN=1 but {reason}")
+        pytest.skip(reason)
     cwd = scratch(tmp_path, block)
     if block.language == "python":
         monkeypatch.chdir(cwd)

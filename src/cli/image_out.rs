@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::output::{cannot_write, write_stdout, AtomicOutput};
 use super::CliError;
-use nffrt::image::{encode_png_rgb8, png_error, Encoding, Image, ImageFormat};
+use nffrt::image::{encode_exr_layers, encode_png_rgb8, png_error, Encoding, Image, ImageFormat};
 
 /// The format of `path` by its extension; `-` (standard output) is PNG. A
 /// directory is no image file, whatever its name.
@@ -70,6 +70,12 @@ impl Destination {
         text: &[(&str, String)],
     ) -> Result<(), CliError> {
         self.write_with(|w| format.encode(image, encoding, text, w))
+    }
+
+    /// Encodes `image` as OpenEXR with the `extra` channels beside R, G and B
+    /// ([`encode_exr_layers`]) and completes the output.
+    pub fn write_exr_layers(self, image: &Image, extra: &[(String, Vec<f32>)]) -> Result<(), CliError> {
+        self.write_with(|w| encode_exr_layers(image, extra, w))
     }
 
     /// Encodes raw 8-bit RGB as PNG and completes the output.

@@ -11,6 +11,8 @@ use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::aff::AffSummary;
 use nffrt::geometry::build_geometry;
+use nffrt::image::Encoding;
+use nffrt::options::display_encoding;
 use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
 
@@ -107,6 +109,9 @@ struct InfoJson {
     /// P3F `integrator` as written, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     integrator: Option<IntegratorKind>,
+    /// How `nffrt render` writes this scene's 8-bit pictures without `--encoding`
+    /// or `--integrator`: `linear`, `srgb` or `gamma2.2`.
+    encoding: Encoding,
     /// The shutter's opening and closing times: the file's `shutter`, else 0 and 1.
     shutter: [f32; 2],
     /// Materials that emit light (P3F's 14-number `f` / `mat`).
@@ -143,6 +148,11 @@ struct InfoJson {
     bvh: Option<BvhInfo>,
 }
 
+/// The 8-bit encoding `nffrt render` gives `scene`'s pictures by default.
+fn default_encoding(scene: &nffrt::Scene) -> Encoding {
+    display_encoding(scene.integrator.unwrap_or_default(), scene.dialect.is_p3f())
+}
+
 /// Runs `nffrt info`.
 pub fn run(args: InfoArgs) -> Result<(), CliError> {
     let loaded = load_scene(&args.scene, &args.limits, Need::Summary)?;
@@ -162,6 +172,7 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
             kernels: nffrt::accel::simd::level().name(),
             spp: s.spp,
             integrator: s.integrator,
+            encoding: default_encoding(s),
             shutter: s.shutter_interval(),
             emissive_materials: emissive_materials(s),
             rough_materials: rough_materials(s),
@@ -240,6 +251,15 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     if let Some(i) = s.integrator {
         outln!("integrator  {} (as the file asks)", i.name());
     }
+    outln!(
+        "encoding    {} (8-bit pictures of {}; --encoding chooses another)",
+        default_encoding(s),
+        match s.integrator.unwrap_or_default() {
+            IntegratorKind::Whitted => "Whitted's rules: linear, as the course's first assignment",
+            IntegratorKind::Path if s.dialect.is_p3f() => "path tracing: the course's toGamma",
+            IntegratorKind::Path => "path tracing: sRGB",
+        }
+    );
     if s.shutter.is_some() || !s.moving_spheres.is_empty() {
         let [open, close] = s.shutter_interval();
         let default = if s.shutter.is_none() { " (the default)" } else { "" };

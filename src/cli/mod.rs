@@ -15,6 +15,7 @@ macro_rules! outln {
 
 mod bench;
 mod diff;
+mod finish;
 mod gen;
 mod image_out;
 mod info;

@@ -15,7 +15,7 @@ use nffrt::render::debug::trace_pixel;
 pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
     let loaded = load_scene(&args.scene, &args.limits.scene, Need::Render)?;
     print_warnings(&loaded, 20);
-    let opts = resolve(args, &loaded.scene.info())?;
+    let (opts, _) = resolve(args, &loaded.scene.info())?;
     if x >= opts.width || y >= opts.height {
         return Err(CliError::usage(format!(
             "--pixel {x},{y} is outside the {}x{} image (columns 0..{}, rows 0..{})",

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
+use super::finish::Finish;
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::{refused, RenderLimitArgs};
 use super::load::{load_scene, print_warnings, Need};
@@ -14,6 +15,7 @@ use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
 use super::{interrupt, pixel, CliError};
+use nffrt::denoise::Quality;
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
@@ -24,6 +26,7 @@ use nffrt::limits::{
 };
 use nffrt::options::{RenderOptions, RenderRequest, Resolved};
 use nffrt::prepare::{prepare_with, PrepareOptions};
+use nffrt::render::Aov;
 use nffrt::render::{region_eye_rows, render_region, RenderError};
 use nffrt::scene::{Accel, IntegratorKind, SceneInfo};
 use nffrt::words::count;
@@ -106,16 +109,35 @@ pub struct RenderArgs {
     /// `nffrt merge` assembles tiles.
     #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true, value_parser = values::region)]
     pub region: Option<Region>,
-    /// 8-bit pictures (PNG, PPM) sRGB-encoded, as POV-Ray and pbrt write them. The
-    /// default is linear: each channel clamped to [0, 1] and scaled, as the SPD's and
-    /// the course's pictures are, for NFF and P3F alike. Not with .pfm or .exr,
-    /// which hold the linear values; a tile records it, and merge refuses to mix.
-    #[arg(long)]
+    /// How 8-bit pictures (PNG, PPM) hold the values: `linear` (each channel clamped
+    /// to [0, 1] and scaled, as the SPD's and the course's Whitted pictures),
+    /// `srgb` (the sRGB curve, as pbrt and Mitsuba write theirs) or `gamma2.2` (the
+    /// course's path tracer's toGamma). Default: linear for Whitted's pictures;
+    /// path-traced ones gamma2.2 for P3F scenes, srgb for NFF. Not with .pfm or
+    /// .exr, which hold the linear values; a tile records it, and merge refuses to mix.
+    #[arg(long, value_name = "NAME", value_parser = values::encoding())]
+    pub encoding: Option<Encoding>,
+    /// The same as --encoding srgb.
+    #[arg(long, conflicts_with = "encoding")]
     pub srgb: bool,
+    /// Denoise the picture with Intel Open Image Denoise (its RT filter, guided by
+    /// the first hits' albedo and normal) once it is rendered: for path tracing and
+    /// sampled effects. `--denoise=fast` (or `balanced`) takes the smaller, faster
+    /// network; `--denoise` alone is `high`. Needs the library: `pip install
+    /// pyoidn`, or NFFRT_OIDN naming it (docs/denoise.md).
+    #[arg(long, value_name = "QUALITY", num_args = 0..=1, require_equals = true,
+          default_missing_value = "high", value_parser = values::quality())]
+    pub denoise: Option<Quality>,
+    /// Also write these of each pixel's first hits, comma-separated: `albedo`,
+    /// `normal`, `depth`; as layers of an .exr picture, else beside the picture
+    /// (NAME.albedo.png for NAME.png).
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = values::aov())]
+    pub aov: Vec<Aov>,
     /// Trace only pixel X,Y (column and row, from 0) and print its ray tree to standard
-    /// output: no image, so not with --output, --region, --srgb, --stats or --stats-json.
+    /// output: no image, so not with --output, --region, --srgb, --encoding,
+    /// --denoise, --aov, --stats or --stats-json.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = values::pixel,
-          conflicts_with_all = ["region", "output", "srgb", "stats", "stats_json"])]
+          conflicts_with_all = ["region", "output", "srgb", "encoding", "denoise", "aov", "stats", "stats_json"])]
     pub pixel: Option<(u32, u32)>,
     /// Print the settings (size, region, sampling, depth), ray counts and timings; to
     /// standard error when standard output carries the image or the JSON.
@@ -149,20 +171,25 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
     }
 }
 
-/// The 8-bit encoding `--srgb` asks for; refused for the float formats.
-fn encoding(args: &RenderArgs, format: ImageFormat, out_path: &Path) -> Result<Encoding, CliError> {
-    match (args.srgb, format.is_8bit()) {
-        (false, _) => Ok(Encoding::Linear),
-        (true, true) => Ok(Encoding::Srgb),
-        (true, false) => Err(CliError::usage(format!(
-            "--srgb: {} holds linear floats; sRGB encoding is for 8-bit .png and .ppm",
+/// The 8-bit encoding `--encoding` (or `--srgb`) asks for, if any; refused for the
+/// float formats, which hold the linear values.
+fn asked_encoding(
+    args: &RenderArgs,
+    format: ImageFormat,
+    out_path: &Path,
+) -> Result<Option<Encoding>, CliError> {
+    let asked = args.encoding.or(args.srgb.then_some(Encoding::Srgb));
+    match asked {
+        Some(e) if e != Encoding::Linear && !format.is_8bit() => Err(CliError::usage(format!(
+            "--encoding {e}: {} holds linear floats; encodings are for 8-bit .png and .ppm",
             out_path.display()
         ))),
+        _ => Ok(asked),
     }
 }
 
 /// Refuses an image or stats file that would replace the scene file, or each other.
-fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), CliError> {
+fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path, beside: &[&Path]) -> Result<(), CliError> {
     let image = match &args.output {
         Some(path) => Named::flag("-o", path),
         None => Named {
@@ -171,7 +198,8 @@ fn refuse_overwriting_inputs(args: &RenderArgs, out_path: &Path) -> Result<(), C
         },
     };
     let stats = args.stats_json.as_deref().map(|p| Named::flag("--stats-json", p));
-    let outputs: Vec<Named<'_>> = std::iter::once(image).chain(stats).collect();
+    let aovs = beside.iter().map(|p| Named::flag("--aov", p));
+    let outputs: Vec<Named<'_>> = std::iter::once(image).chain(stats).chain(aovs).collect();
     refuse_overwriting(&outputs, &[(&args.scene, "the scene file")])
 }
 
@@ -219,19 +247,25 @@ pub fn request(args: &RenderArgs) -> RenderRequest {
         seed: args.seed,
         integrator: args.integrator,
         smooth: false,
+        encoding: args.encoding.or(args.srgb.then_some(Encoding::Srgb)),
     }
 }
 
-/// The render settings `args` ask for on `scene`, its notes printed to standard
-/// error (unless `--quiet`); a request the scene cannot take is a usage error.
-pub fn resolve(args: &RenderArgs, scene: &SceneInfo) -> Result<RenderOptions, CliError> {
-    let Resolved { opts, notes } = request(args).resolve(scene).map_err(CliError::usage)?;
+/// The render settings `args` ask for on `scene` and the 8-bit encoding, its notes
+/// printed to standard error (unless `--quiet`); a request the scene cannot take is
+/// a usage error.
+pub fn resolve(args: &RenderArgs, scene: &SceneInfo) -> Result<(RenderOptions, Encoding), CliError> {
+    let Resolved {
+        opts,
+        encoding,
+        notes,
+    } = request(args).resolve(scene).map_err(CliError::usage)?;
     if !args.quiet {
         for note in notes {
             eprintln!("note: {note}");
         }
     }
-    Ok(opts)
+    Ok((opts, encoding))
 }
 
 /// Runs `nffrt render`.
@@ -241,8 +275,17 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let out_path = (args.output.clone()).unwrap_or_else(|| default_output(&args.scene, args.region.as_ref()));
     let format = format_of(&out_path)?;
-    let encoding = encoding(&args, format, &out_path)?;
-    refuse_overwriting_inputs(&args, &out_path)?;
+    asked_encoding(&args, format, &out_path)?;
+    let beside: Vec<PathBuf> = super::finish::asked_aovs(&args)
+        .into_iter()
+        .filter(|_| format != ImageFormat::Exr && !is_stdout(&out_path))
+        .map(|a| super::finish::beside_path(&out_path, a))
+        .collect();
+    refuse_overwriting_inputs(
+        &args,
+        &out_path,
+        &beside.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
+    )?;
     if args.region.is_some() && format != ImageFormat::Png {
         return Err(CliError::usage(format!(
             "{}: --region writes PNG tiles (their place is kept in a PNG text chunk)",
@@ -276,11 +319,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let load_s = t0.elapsed().as_secs_f64();
     print_warnings(&loaded, 20);
     let info = loaded.scene.info();
-    let opts = resolve(&args, &info)?;
+    let (opts, encoding) = resolve(&args, &info)?;
+    // Float pictures hold the linear values, whatever the 8-bit default.
+    let encoding = if format.is_8bit() {
+        encoding
+    } else {
+        Encoding::Linear
+    };
     let full = Region::full(opts.width, opts.height);
     let region = args.region.unwrap_or(full);
     let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
     args.limits.check(&opts, &region, sized_by_flags)?;
+    let finish = Finish::plan(&args, &out_path, format, &opts, threads)?;
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
     let stats_file = args.stats_json.as_deref().filter(|p| !is_stdout(p));
@@ -298,13 +348,21 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     progress.finish();
     let (image, rays) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
     let render_s = t2.elapsed().as_secs_f64();
+    interrupt::check()?;
+    let denoiser = finish.denoiser_text();
+    let finished = pool.install(|| finish.run(&scene, &opts, &limits, image, format, encoding))?;
+    let image = finished.image;
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
     if let Some(scene_print) = loaded.fingerprint {
         text.extend(tile_text(&region, &opts, scene_print));
         text.extend(tiles::encoding_text(encoding));
     }
-    output.write_image(&image, format, encoding, &text)?;
+    if finished.exr_channels.is_empty() {
+        output.write_image(&image, format, encoding, &text)?;
+    } else {
+        output.write_exr_layers(&image, &finished.exr_channels)?;
+    }
 
     let wants_stats = args.stats || args.stats_json.is_some();
     let accel = wants_stats.then(|| pool.install(|| stats::accel_work(&scene, &opts, &region)));
@@ -317,6 +375,10 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     );
     report.skybox_decode_s = skybox.then(|| scene.background().decode_seconds());
     report.stages = stats::StagesReport::of(&progress.stages());
+    report.settings.push("encoding", encoding.name().into());
+    report.settings.push("denoise", denoiser.into());
+    report.aov_s = finished.aov_s;
+    report.denoise_s = finished.denoise_s;
     if let (Some(mut out), Some(path)) = (stats_out.take(), stats_file) {
         writeln!(out.writer(), "{}", report.json()).map_err(|e| cannot_write(path.display(), &e))?;
         out.commit()?;

@@ -21,6 +21,14 @@ use nffrt::words::shortest_f64;
 #[derive(Clone, Debug, Default)]
 pub struct Settings(Vec<(&'static str, Value)>);
 
+impl Settings {
+    /// Adds a setting known only once the render is done (the encoding written, the
+    /// denoiser used).
+    pub fn push(&mut self, key: &'static str, value: Value) {
+        self.0.push((key, value));
+    }
+}
+
 impl Serialize for Settings {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut map = s.serialize_map(Some(self.0.len()))?;
@@ -197,6 +205,12 @@ pub struct StatsReport {
     /// The path tracer's wavefront stages (see [`StagesReport`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stages: Option<StagesReport>,
+    /// Seconds of the AOV pass (`--aov`, `--denoise`), after the render.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aov_s: Option<f64>,
+    /// Seconds of the denoiser (`--denoise`), after the AOV pass.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub denoise_s: Option<f64>,
 }
 
 /// What the path tracer's wavefront stages did: per stage its items (rays for the
@@ -310,6 +324,8 @@ impl StatsReport {
             mrays_per_s: rays.total_rays() as f64 / render_s.max(1e-9) / 1e6,
             skybox_decode_s: None,
             stages: None,
+            aov_s: None,
+            denoise_s: None,
         }
     }
 
@@ -352,6 +368,12 @@ impl StatsReport {
             ),
             line("speed", &format!("{:.2} Mrays/s", self.mrays_per_s)),
         ]);
+        if let Some(seconds) = self.aov_s {
+            lines.push(line("aov pass", &format!("{seconds:.3} s")));
+        }
+        if let Some(seconds) = self.denoise_s {
+            lines.push(line("denoiser", &format!("{seconds:.3} s")));
+        }
         if let Some(seconds) = self.skybox_decode_s {
             lines.push(line(
                 "skybox decode",
@@ -373,6 +395,7 @@ fn line(label: &str, value: &str) -> String {
 fn value_text(v: &Value) -> String {
     match v {
         Value::String(s) => s.clone(),
+        Value::Null => "none".into(),
         Value::Array(items) => items.iter().map(value_text).collect::<Vec<_>>().join(","),
         other => other.to_string(),
     }

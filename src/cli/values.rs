@@ -3,8 +3,11 @@
 //! number from 1 to 4096`), and negative numbers are read as values, not as flags.
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
+use nffrt::denoise::Quality;
 use nffrt::image::region::parse_u32s;
+use nffrt::image::Encoding;
 use nffrt::image::Region;
+use nffrt::render::Aov;
 use nffrt::scene::IntegratorKind;
 
 /// The one wording of an out-of-range or malformed whole number.
@@ -56,6 +59,24 @@ fn finite(s: &str) -> Option<f32> {
 pub fn integrator() -> impl TypedValueParser<Value = IntegratorKind> {
     PossibleValuesParser::new(IntegratorKind::ALL.map(IntegratorKind::name))
         .try_map(|name| name.parse::<IntegratorKind>())
+}
+
+/// A clap value parser for `--encoding`: one of [`Encoding::ALL`] by name.
+pub fn encoding() -> impl TypedValueParser<Value = Encoding> {
+    PossibleValuesParser::new(Encoding::ALL.map(Encoding::name))
+        .try_map(|name| Encoding::from_name(&name).ok_or("unknown encoding"))
+}
+
+/// A clap value parser for `--denoise=QUALITY`: one of [`Quality::ALL`] by name.
+pub fn quality() -> impl TypedValueParser<Value = Quality> {
+    PossibleValuesParser::new(Quality::ALL.map(Quality::name))
+        .try_map(|name| Quality::from_name(&name).ok_or("unknown quality"))
+}
+
+/// A clap value parser for each name of `--aov` (a comma-separated list).
+pub fn aov() -> impl TypedValueParser<Value = Aov> {
+    PossibleValuesParser::new(Aov::ALL.map(Aov::name))
+        .try_map(|name| Aov::from_name(&name).ok_or("unknown AOV"))
 }
 
 /// A clap value parser for `--pixel X,Y`: a column and a row, counted from 0.

@@ -48,24 +48,57 @@ impl Image {
 
 /// How an 8-bit file (PNG, PPM) holds the linear values; float files (PFM, EXR)
 /// hold them as they are.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Encoding {
     /// Clamped to [0, 1] and scaled ([`quantize`]): NFF and P3F colours are display
-    /// values, as in the SPD's and the course's own pictures. The default.
+    /// values, as in the SPD's and the course's own Whitted pictures.
     #[default]
     Linear,
     /// Clamped, then through the sRGB transfer curve ([`quantize_srgb`]), as POV-Ray
     /// and pbrt write their pictures.
     Srgb,
+    /// Clamped, then raised to the power 1/2.2 ([`quantize_gamma22`]): the course's
+    /// path-tracing template's `toGamma`.
+    Gamma22,
 }
 
 impl Encoding {
+    /// Every encoding, in the order of their names in messages.
+    pub const ALL: [Encoding; 3] = [Encoding::Linear, Encoding::Srgb, Encoding::Gamma22];
+
     /// The function from a linear channel value to its byte.
     pub fn quantizer(self) -> fn(f32) -> u8 {
         match self {
             Encoding::Linear => quantize,
             Encoding::Srgb => quantize_srgb,
+            Encoding::Gamma22 => quantize_gamma22,
         }
+    }
+
+    /// Its name, as `--encoding` takes it: `linear`, `srgb`, `gamma2.2`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Encoding::Linear => "linear",
+            Encoding::Srgb => "srgb",
+            Encoding::Gamma22 => "gamma2.2",
+        }
+    }
+
+    /// The encoding of that name.
+    pub fn from_name(name: &str) -> Option<Encoding> {
+        Encoding::ALL.into_iter().find(|e| e.name() == name)
+    }
+}
+
+impl std::fmt::Display for Encoding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for Encoding {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
     }
 }
 
@@ -96,6 +129,16 @@ pub fn quantize_srgb(v: f32) -> u8 {
         1.055 * v.powf(1.0 / 2.4) - 0.055
     };
     quantize(encoded)
+}
+
+/// Maps a linear channel value to its gamma-2.2-encoded byte (NaN maps to 0):
+/// clamped to [0, 1], raised to the power 1/2.2 (the course's `toGamma`, whose
+/// result the framebuffer clamps), then scaled and rounded as [`quantize`] does.
+pub fn quantize_gamma22(v: f32) -> u8 {
+    if v.is_nan() {
+        return 0;
+    }
+    quantize(v.clamp(0.0, 1.0).powf(1.0 / 2.2))
 }
 
 #[cfg(test)]
@@ -141,6 +184,22 @@ mod tests {
         let image = Image::from_pixels(1, 1, vec![Vec3::new(0.1, 0.15, 0.3)]);
         assert_eq!(image.to_rgb8_as(Encoding::Srgb), [89, 108, 149]);
         assert_eq!(image.to_rgb8(), [26, 38, 77]);
+    }
+
+    #[test]
+    fn gamma_bytes_are_the_power_curve() {
+        // By hand: 0.5^(1/2.2) = 0.72974, · 255 = 186.08 -> 186; 0.1^(1/2.2) =
+        // 0.35111 -> 89.53 -> 90; 0.01^(1/2.2) = 0.12328 -> 31.44 -> 31;
+        // 0.002^(1/2.2) = 0.05937 -> 15.14 -> 15 (no linear toe, unlike sRGB's 7).
+        for (v, want) in [(0.5, 186), (0.1, 90), (0.01, 31), (0.002, 15)] {
+            assert_eq!(quantize_gamma22(v), want, "{v}");
+        }
+        assert_eq!(quantize_gamma22(-1.0), 0);
+        assert_eq!(quantize_gamma22(3.0), 255);
+        assert_eq!(quantize_gamma22(f32::NAN), 0);
+        for e in Encoding::ALL {
+            assert_eq!(Encoding::from_name(e.name()), Some(e));
+        }
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! size), [`FINGERPRINT_KEY`] = `scene=HEX options=HEX` (see [`crate::fingerprint`]:
 //! the scene it was rendered from and every option that changes pixels) and
 //! [`OPTIONS_KEY`] (those options in words, for people and error messages); a tile
-//! written sRGB-encoded also has [`ENCODING_KEY`] = `srgb`.
+//! whose 8-bit values are not linear also has [`ENCODING_KEY`] = `srgb` or `gamma2.2`.
 //! [`merge_tiles`] checks that the tiles agree on the full size, fingerprint and
 //! encoding, lie inside the image, do not overlap and cover it, then copies them
 //! into place.
@@ -22,24 +22,23 @@ pub const REGION_KEY: &str = "nffrt:region";
 pub const OPTIONS_KEY: &str = "nffrt:options";
 /// PNG text keyword of a tile's [`TileFingerprint`].
 pub const FINGERPRINT_KEY: &str = "nffrt:fingerprint";
-/// PNG text keyword of a tile's [`Encoding`] when it is not the default: `srgb`.
+/// PNG text keyword of a tile's [`Encoding`] when it is not linear: `srgb` or
+/// `gamma2.2` ([`Encoding::name`]).
 pub const ENCODING_KEY: &str = "nffrt:encoding";
 
 /// The [`ENCODING_KEY`] chunk of a tile in `encoding`, if it needs one (a tile
 /// without it holds linear values, as every tile did before sRGB output).
 pub fn encoding_text(encoding: Encoding) -> Option<(&'static str, String)> {
-    match encoding {
-        Encoding::Linear => None,
-        Encoding::Srgb => Some((ENCODING_KEY, "srgb".into())),
-    }
+    (encoding != Encoding::Linear).then(|| (ENCODING_KEY, encoding.name().into()))
 }
 
 /// The encoding of a tile whose [`ENCODING_KEY`] chunk holds `text` (`None`: none).
 pub fn parse_encoding_text(text: Option<&str>) -> Result<Encoding, String> {
     match text {
         None => Ok(Encoding::Linear),
-        Some("srgb") => Ok(Encoding::Srgb),
-        Some(other) => Err(format!("unknown {ENCODING_KEY} '{other}' (nffrt writes 'srgb')")),
+        Some(name) => Encoding::from_name(name)
+            .filter(|e| *e != Encoding::Linear)
+            .ok_or_else(|| format!("unknown {ENCODING_KEY} '{name}' (nffrt writes 'srgb' or 'gamma2.2')")),
     }
 }
 
@@ -170,21 +169,16 @@ fn check_fingerprints(tiles: &[Tile]) -> Result<(), String> {
     Ok(())
 }
 
-/// Refuses sRGB-encoded tiles beside linear ones: their bytes mean other colours.
+/// Refuses tiles of different 8-bit encodings: their bytes mean other colours.
 fn check_encodings(tiles: &[Tile]) -> Result<(), String> {
     let Some((odd, reference, _)) = odd_one_out(tiles, |t| t.encoding) else {
         return Ok(());
     };
     let (a, b) = (&tiles[odd], &tiles[reference]);
-    let (srgb, linear) = if a.encoding == Encoding::Srgb {
-        (a, b)
-    } else {
-        (b, a)
-    };
     Err(format!(
-        "{} was written with --srgb and {} without: their bytes encode colours differently; \
-         render them alike",
-        srgb.name, linear.name
+        "{} was written with --encoding {} and {} with --encoding {}: their bytes encode colours \
+         differently; render them alike",
+        a.name, a.encoding, b.name, b.encoding
     ))
 }
 
@@ -415,16 +409,29 @@ mod tests {
             [srgb.clone(), tile("a", 0, 0, 2, 3)],
         ] {
             let e = merge_tiles(&tiles).unwrap_err();
-            assert!(e.starts_with("b was written with --srgb and a without"), "{e}");
+            assert!(
+                e.contains("with --encoding srgb") && e.contains("with --encoding linear"),
+                "{e}"
+            );
         }
         let mut both = tile("a", 0, 0, 2, 3);
         both.encoding = Encoding::Srgb;
-        assert!(merge_tiles(&[both, srgb]).is_ok());
+        assert!(merge_tiles(&[both.clone(), srgb]).is_ok());
         assert_eq!(parse_encoding_text(None), Ok(Encoding::Linear));
         let (key, text) = encoding_text(Encoding::Srgb).unwrap();
         assert_eq!(key, ENCODING_KEY);
         assert_eq!(parse_encoding_text(Some(&text)), Ok(Encoding::Srgb));
         assert!(parse_encoding_text(Some("gamma")).is_err());
+        assert!(
+            parse_encoding_text(Some("linear")).is_err(),
+            "linear tiles carry no chunk"
+        );
+        let (_, text) = encoding_text(Encoding::Gamma22).unwrap();
+        assert_eq!(parse_encoding_text(Some(&text)), Ok(Encoding::Gamma22));
+        let mut gamma = tile("b", 2, 0, 4, 3);
+        gamma.encoding = Encoding::Gamma22;
+        let e = merge_tiles(&[both.clone(), gamma]).unwrap_err();
+        assert!(e.contains("gamma2.2") && e.contains("srgb"), "{e}");
     }
 
     #[test]

@@ -13,7 +13,7 @@ mod check;
 mod request;
 
 pub use check::{check_render, check_settings, eye_grid_points, Refused, RenderLimits};
-pub use request::{image_size, RenderRequest, Resolved};
+pub use request::{display_encoding, image_size, RenderRequest, Resolved};
 
 use std::fmt;
 

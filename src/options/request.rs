@@ -5,6 +5,7 @@
 //! written once, here.
 
 use super::{check_settings, RenderOptions, Sampling};
+use crate::image::Encoding;
 use crate::limits::{DEFAULT_EFFECT_SPP, DEFAULT_MAX_DEPTH, MAX_RESOLUTION};
 use crate::scene::{IntegratorKind, SceneInfo};
 
@@ -37,6 +38,8 @@ pub struct RenderRequest {
     pub integrator: Option<IntegratorKind>,
     /// Every surface smooth, whatever its material's roughness (the viewer's toggle).
     pub smooth: bool,
+    /// How 8-bit pictures hold the values (default: [`display_encoding`]).
+    pub encoding: Option<Encoding>,
 }
 
 /// A request resolved: the options, and what the caller should be told about how
@@ -45,8 +48,25 @@ pub struct RenderRequest {
 pub struct Resolved {
     /// The render's options.
     pub opts: RenderOptions,
+    /// How an 8-bit picture of the render holds its values (float pictures hold
+    /// them linear whatever this says).
+    pub encoding: Encoding,
     /// Notes on defaults chosen for the caller.
     pub notes: Vec<String>,
+}
+
+/// The 8-bit encoding of a picture rendered with `integrator` from a scene in P3F
+/// (`p3f`) or NFF, unless the caller chooses: Whitted's pictures linear, as the
+/// course's first assignment and the SPD write them (their colours are display
+/// values); path-traced ones, whose values are radiance, display-encoded — with the
+/// course's `toGamma` (gamma 2.2) for P3F, the course's path tracer's scenes, and
+/// with sRGB's curve for NFF, as pbrt and Mitsuba write theirs (docs/path-tracing.md).
+pub fn display_encoding(integrator: IntegratorKind, p3f: bool) -> Encoding {
+    match (integrator, p3f) {
+        (IntegratorKind::Whitted, _) => Encoding::Linear,
+        (IntegratorKind::Path, true) => Encoding::Gamma22,
+        (IntegratorKind::Path, false) => Encoding::Srgb,
+    }
 }
 
 impl RenderRequest {
@@ -70,7 +90,13 @@ impl RenderRequest {
             roughness: !self.smooth,
         };
         check_settings(&opts)?;
-        Ok(Resolved { opts, notes })
+        let encoding =
+            (self.encoding).unwrap_or_else(|| display_encoding(opts.integrator, scene.dialect.is_p3f()));
+        Ok(Resolved {
+            opts,
+            encoding,
+            notes,
+        })
     }
 
     /// The sampling: the SPD's corners, or `spp` from the request, else from the
@@ -203,6 +229,33 @@ mod tests {
     const LENS: &str =
         "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 hither 1 resolution 64 48 aperture 8 focal 1\n\
                         s 0 0 0 1\n";
+    #[test]
+    fn path_traced_pictures_are_display_encoded_unless_asked_otherwise() {
+        let p3f = scene(
+            &format!("integrator path\n{}", LENS.replace("v from", "camera eye")),
+            true,
+        );
+        let nff = scene(NFF, false);
+        let encoding = |r: RenderRequest, s: &SceneInfo| r.resolve(s).unwrap().encoding;
+        let path = RenderRequest {
+            integrator: Some(IntegratorKind::Path),
+            ..Default::default()
+        };
+        assert_eq!(encoding(RenderRequest::default(), &p3f), Encoding::Gamma22);
+        assert_eq!(encoding(path, &nff), Encoding::Srgb);
+        assert_eq!(encoding(RenderRequest::default(), &nff), Encoding::Linear);
+        let whitted = RenderRequest {
+            integrator: Some(IntegratorKind::Whitted),
+            ..Default::default()
+        };
+        assert_eq!(encoding(whitted, &p3f), Encoding::Linear);
+        let chosen = RenderRequest {
+            encoding: Some(Encoding::Linear),
+            ..path
+        };
+        assert_eq!(encoding(chosen, &p3f), Encoding::Linear);
+    }
+
     #[test]
     fn one_side_given_keeps_the_aspect_ratio() {
         assert_eq!(image_size(None, None, 640, 480), Ok((640, 480)));

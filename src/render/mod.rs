@@ -13,6 +13,7 @@
 //! [`render_region`] renders a crop: every sample position depends only on absolute
 //! pixel coordinates, so a crop's pixels equal the full render's there, bit for bit.
 
+mod aov;
 pub mod bsdf;
 mod camera;
 pub mod debug;
@@ -31,6 +32,7 @@ mod stats;
 mod wavefront;
 pub mod whitted;
 
+pub use aov::{albedo, render_aovs, Aov, Aovs};
 pub use camera::{Camera, CameraSample};
 pub use door::{render, render_region, RenderError};
 pub use integrator::{

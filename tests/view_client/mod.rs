@@ -223,6 +223,16 @@ impl Client {
         self.socket.send(Message::text(text)).expect("send");
     }
 
+    /// Sends a binary message: a 4-byte little-endian length, `header` as JSON, then
+    /// `payload` (a reference upload's framing).
+    pub fn send_binary(&mut self, header: &Value, payload: &[u8]) {
+        let json = header.to_string();
+        let mut bytes = (json.len() as u32).to_le_bytes().to_vec();
+        bytes.extend_from_slice(json.as_bytes());
+        bytes.extend_from_slice(payload);
+        self.socket.send(Message::binary(bytes)).expect("send");
+    }
+
     /// Sends raw text that the server may refuse by closing the connection while it
     /// is still being written (a broken pipe or a reset is then no failure).
     pub fn send_text_to_be_refused(&mut self, text: &str) {

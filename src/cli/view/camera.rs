@@ -2,7 +2,7 @@
 //! view written as the block to paste into the file ("copy camera").
 
 use super::protocol::{CameraMsg, OptionsMsg};
-use nffrt::image::Region;
+use nffrt::image::{Encoding, Region};
 use nffrt::math::Vec3;
 use nffrt::options::{check_render, RenderLimits, RenderOptions, RenderRequest};
 use nffrt::prepare::PrepareOptions;
@@ -41,12 +41,14 @@ pub fn request(options: &OptionsMsg) -> RenderRequest {
 
 /// The options the page's settings give on `scene`, checked as every render is
 /// ([`check_render`]: the renderer's ranges and the default pixel limit, which
-/// the page is told of), or why they cannot be rendered.
-pub fn options_of(options: &OptionsMsg, scene: &SceneInfo) -> Result<RenderOptions, String> {
-    let opts = request(options).resolve(scene)?.opts;
+/// the page is told of), with the 8-bit encoding `nffrt render` would write them
+/// in, or why they cannot be rendered.
+pub fn options_of(options: &OptionsMsg, scene: &SceneInfo) -> Result<(RenderOptions, Encoding), String> {
+    let resolved = request(options).resolve(scene)?;
+    let opts = resolved.opts;
     let full = Region::full(opts.width, opts.height);
     check_render(&opts, &full, &RenderLimits::default()).map_err(|e| e.to_string())?;
-    Ok(opts)
+    Ok((opts, resolved.encoding))
 }
 
 /// The settings a page starts with on `scene`: what `nffrt render --spp SPP
@@ -81,6 +83,7 @@ pub fn first_options(
         integrator: opts.integrator,
         shutter: scene.shutter,
         accel: accel.or(scene.accel).unwrap_or_default(),
+        denoise: false,
     }
 }
 
@@ -165,6 +168,7 @@ mod tests {
             integrator: IntegratorKind::Whitted,
             shutter: [0.0, 1.0],
             accel: nffrt::scene::Accel::Bvh,
+            denoise: false,
         }
     }
 

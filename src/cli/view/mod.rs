@@ -14,6 +14,7 @@ mod addresses;
 mod assets;
 mod camera;
 mod protocol;
+mod reference;
 mod scene;
 mod security;
 mod server;
@@ -32,7 +33,10 @@ use tokio::sync::broadcast;
 use super::limits::SceneLimitArgs;
 use super::render::AccelArg;
 use super::{interrupt, CliError};
+use nffrt::denoise::Denoiser;
+use nffrt::options::display_encoding;
 use nffrt::scene::IntegratorKind;
+use reference::Reference;
 use scene::Source;
 use server::App;
 
@@ -64,6 +68,11 @@ pub struct ViewArgs {
     /// (default: the file's P3F `accel`, else bvh); the page can switch it.
     #[arg(long, value_enum, value_name = "NAME")]
     pub accel: Option<AccelArg>,
+    /// A reference picture (PNG, PPM, PFM or OpenEXR) to flip against the live one;
+    /// every finished pass of a picture of its size is measured against it (FLIP).
+    /// The page's file picker loads one too.
+    #[arg(long, value_name = "REF")]
+    pub reference: Option<PathBuf>,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: SceneLimitArgs,
@@ -77,6 +86,24 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
         limits: args.limits.clone(),
     });
     let loaded = source.load(0, &AtomicBool::new(false))?;
+    let reference = match &args.reference {
+        Some(path) => {
+            let info = loaded.scene.info();
+            let integrator = args.integrator.or(info.integrator).unwrap_or_default();
+            let encoding = display_encoding(integrator, info.dialect.is_p3f());
+            let read = Reference::read(path, encoding).map_err(|e| match path.exists() {
+                true => CliError::scene(format!("--reference {e}")),
+                false => CliError::io(format!("--reference {e}")),
+            })?;
+            Some(Arc::new(read))
+        }
+        None => None,
+    };
+    // Open Image Denoise, if installed: the page's denoise switch.
+    let (denoiser, denoiser_help) = match Denoiser::open(&[], 0) {
+        Ok(d) => (Some(Arc::new(d)), None),
+        Err(e) => (None, Some(e.to_string())),
+    };
     let host = args.host.unwrap_or(IpAddr::V4(Ipv4Addr::LOCALHOST));
     if !host.is_loopback() {
         eprintln!(
@@ -117,6 +144,9 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,
         sessions: AtomicUsize::new(0),
+        denoiser,
+        denoiser_help,
+        reference,
     });
     // Standard input is read once: nothing to watch.
     let _watcher = if from_stdin {

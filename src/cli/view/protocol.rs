@@ -19,6 +19,9 @@ use nffrt::scene::{Accel, IntegratorKind, View};
 
 /// The largest text message accepted; longer ones get an error reply.
 pub const MAX_MESSAGE_BYTES: usize = 16 * 1024;
+/// The largest binary message accepted: a reference picture's file (PNG, PPM, PFM
+/// or OpenEXR), as the page's file picker sends it.
+pub const MAX_REFERENCE_BYTES: usize = 32 << 20;
 
 /// A camera as the page moves it: the view's position, target, up and angle.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -86,6 +89,10 @@ pub struct OptionsMsg {
     /// each; a new one prepares the scene again.
     #[serde(default)]
     pub accel: Accel,
+    /// Show each finished pass denoised (Open Image Denoise), while the noisy
+    /// picture keeps refining (default: off).
+    #[serde(default)]
+    pub denoise: bool,
 }
 
 /// A message from the page.
@@ -177,6 +184,25 @@ pub enum ServerMessage {
         load_s: f64,
         /// What the settings may be.
         limits: LimitsMsg,
+        /// The denoiser, `Open Image Denoise 2.5.1`, or `None` when it is not
+        /// installed (the denoise switch is then greyed out).
+        denoiser: Option<String>,
+        /// Why there is no denoiser and how to get one (`None` when there is).
+        denoiser_help: Option<String>,
+    },
+    /// A reference picture was loaded: every finished pass of a picture of its
+    /// size is then measured against it (binary `flip` messages), and it follows as
+    /// a binary `reference` message (8-bit RGB, for flipping between the two).
+    Reference {
+        /// Its file name (from the command line or the file picker).
+        name: String,
+        /// Its width.
+        width: u32,
+        /// Its height.
+        height: u32,
+        /// `ldr` (an 8-bit picture: LDR-FLIP against the picture as shown) or `hdr`
+        /// (a float one: HDR-FLIP against the linear values).
+        mode: &'static str,
     },
     /// A render request was accepted as generation `gen`, or a reload started one.
     View {
@@ -244,6 +270,28 @@ pub struct FrameHeader {
     pub ms: f64,
     /// True for the converged picture, byte for byte `nffrt render`'s.
     pub complete: bool,
+    /// True for a denoised picture (the page's denoise switch).
+    pub denoised: bool,
+}
+
+/// The header of a binary error map: the FLIP of one finished pass against the
+/// reference, the payload its map in magma colours (8-bit RGB rows, top first).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FlipHeader {
+    /// Always `"flip"`.
+    pub kind: &'static str,
+    /// The generation measured.
+    pub gen: u64,
+    /// Its size.
+    pub width: u32,
+    /// Its height.
+    pub height: u32,
+    /// Samples per pixel of the pass measured.
+    pub samples: u32,
+    /// FLIP's mean over the picture.
+    pub mean: f64,
+    /// True if the picture measured was the denoised one.
+    pub denoised: bool,
 }
 
 /// A binary message: the header's length (4 bytes, little-endian), the header as
@@ -335,6 +383,7 @@ mod tests {
                 integrator: IntegratorKind::Path,
                 shutter: [0.0, 0.5],
                 accel: Accel::Grid,
+                denoise: true,
             },
         }
     }
@@ -373,6 +422,7 @@ mod tests {
         assert_eq!(options.integrator, IntegratorKind::Whitted);
         assert_eq!(options.shutter, [0.0, 1.0]);
         assert_eq!(options.accel, Accel::Bvh);
+        assert!(!options.denoise);
     }
 
     #[test]
@@ -482,13 +532,14 @@ mod tests {
             v in prop::array::uniform10(finite()),
             w in 0u32..5000, h in 0u32..5000, depth in 0u32..80, spp in 0u32..5000,
             lens: bool, soft: bool, rough: bool, path: bool, shutter in prop::array::uniform2(finite()),
+            denoise: bool,
         ) {
             let msg = ClientMessage::Render {
                 camera: CameraMsg { from: [v[0], v[1], v[2]], at: [v[3], v[4], v[5]], up: [v[6], v[7], v[8]], angle: v[9] },
                 options: OptionsMsg {
                     width: w, height: h, max_depth: depth, spp, lens, soft_shadows: soft, rough,
                     integrator: if path { IntegratorKind::Path } else { IntegratorKind::Whitted }, shutter,
-                    accel: Accel::None,
+                    accel: Accel::None, denoise,
                 },
             };
             match parse_client_message(&serde_json::to_string(&msg).unwrap()) {

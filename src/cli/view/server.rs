@@ -26,9 +26,11 @@ use super::{assets, security, session};
 pub const MAX_SESSIONS: usize = 8;
 /// The most TCP connections at once; further ones wait in the system's backlog.
 pub const MAX_CONNECTIONS: usize = 64;
-/// The largest WebSocket message read at all; past it the connection is closed.
-/// (Messages past `protocol::MAX_MESSAGE_BYTES` but within this get an error reply.)
-pub const MAX_WS_MESSAGE: usize = 1 << 20;
+/// The largest WebSocket message read at all: a reference picture's upload
+/// (`protocol::MAX_REFERENCE_BYTES`) and its header; past it the connection is
+/// closed. (Text messages past `protocol::MAX_MESSAGE_BYTES` but within this get an
+/// error reply.)
+pub const MAX_WS_MESSAGE: usize = super::protocol::MAX_REFERENCE_BYTES + 8192;
 
 /// What every request and session shares.
 pub struct App {
@@ -50,6 +52,12 @@ pub struct App {
     pub events: broadcast::Sender<SceneEvent>,
     /// Open sessions.
     pub sessions: AtomicUsize,
+    /// Open Image Denoise, if it is installed.
+    pub denoiser: Option<Arc<nffrt::denoise::Denoiser>>,
+    /// Why there is no denoiser and how to get one.
+    pub denoiser_help: Option<String>,
+    /// `--reference`: the picture every session starts with.
+    pub reference: Option<Arc<super::reference::Reference>>,
 }
 
 impl App {
@@ -69,6 +77,10 @@ pub fn router(app: Arc<App>) -> Router {
         .route(
             "/app.js",
             get(|| async { asset(assets::APP_JS, "text/javascript; charset=utf-8") }),
+        )
+        .route(
+            "/compare.js",
+            get(|| async { asset(assets::COMPARE_JS, "text/javascript; charset=utf-8") }),
         )
         .route(
             "/app.css",

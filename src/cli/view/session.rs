@@ -16,12 +16,15 @@ use tokio::sync::{broadcast, watch};
 use super::camera::{camera_block, first_options, options_of, prepare_options, view_of};
 use super::protocol::{
     encode_binary, parse_client_message, CameraMsg, ClientMessage, LimitsMsg, OptionsMsg, ServerMessage,
+    MAX_REFERENCE_BYTES,
 };
+use super::reference::Reference;
 use super::scene::{Loaded, SceneEvent};
 use super::server::App;
-use super::worker::{Frame, Job, Worker};
+use super::worker::{Frame, Job, Outlets, ShownPicture, Worker};
 use nffrt::geometry::SourceKind;
-use nffrt::image::{encode_png, SOFTWARE_TEXT};
+use nffrt::image::{encode_png_rgb8, SOFTWARE_TEXT};
+use nffrt::options::{display_encoding, Sampling};
 use nffrt::render::debug::{kind_name, trace_pixel};
 use nffrt::scene::{AngleSpan, Dialect};
 
@@ -44,12 +47,19 @@ struct Session {
     request: Option<Request>,
     /// A ray tree being traced.
     tracing: Option<tokio::task::JoinHandle<ServerMessage>>,
+    /// The reference picture, if one is loaded.
+    reference: Option<Arc<Reference>>,
 }
 
 /// Serves one WebSocket until it closes.
 pub async fn run(mut socket: WebSocket, app: Arc<App>) {
     let (frames_tx, mut frames) = watch::channel::<Option<Arc<Frame>>>(None);
-    let Ok(worker) = Worker::spawn(frames_tx) else {
+    let (maps_tx, mut maps) = tokio::sync::mpsc::unbounded_channel::<Arc<Frame>>();
+    let outlets = Outlets {
+        frames: frames_tx,
+        maps: maps_tx,
+    };
+    let Ok(worker) = Worker::spawn(outlets) else {
         return;
     };
     let mut events = app.events.subscribe();
@@ -61,17 +71,35 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
         gen: 0,
         request: None,
         tracing: None,
+        reference: None,
     };
+    s.reference = s.app.reference.clone();
     if send_json(&mut socket, &s.scene_message()).await.is_err() {
         return;
+    }
+    if let Some(r) = &s.reference {
+        if send_json(&mut socket, &r.message()).await.is_err()
+            || socket
+                .send(Message::Binary(r.display_message().into()))
+                .await
+                .is_err()
+        {
+            return;
+        }
     }
     loop {
         let out = tokio::select! {
             msg = socket.recv() => match msg {
                 Some(Ok(Message::Text(text))) => s.handle(text.as_str()),
-                Some(Ok(Message::Binary(_))) => vec![error("binary messages are not accepted")],
+                Some(Ok(Message::Binary(bytes))) => s.reference_sent(&bytes),
                 Some(Ok(Message::Ping(_) | Message::Pong(_))) => vec![],
                 Some(Ok(Message::Close(_))) | Some(Err(_)) | None => break,
+            },
+            map = maps.recv() => match map {
+                // Maps of older generations are dropped, as frames are.
+                Some(m) if m.gen >= s.gen => vec![Reply::Binary(m.bytes.clone())],
+                Some(_) => vec![],
+                None => break,
             },
             changed = frames.changed() => {
                 if changed.is_err() {
@@ -122,20 +150,21 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
 
 /// A message to send.
 enum Reply {
-    Json(ServerMessage),
+    /// (Boxed: a scene message is large, a binary one a pointer.)
+    Json(Box<ServerMessage>),
     Binary(Bytes),
 }
 
 impl From<ServerMessage> for Reply {
     fn from(m: ServerMessage) -> Reply {
-        Reply::Json(m)
+        Reply::Json(Box::new(m))
     }
 }
 
 fn error(message: impl Into<String>) -> Reply {
-    Reply::Json(ServerMessage::Error {
+    Reply::Json(Box::new(ServerMessage::Error {
         message: message.into(),
-    })
+    }))
 }
 
 async fn send_json(socket: &mut WebSocket, msg: &ServerMessage) -> Result<(), axum::Error> {
@@ -166,16 +195,21 @@ impl Session {
         };
         self.gen += 1;
         let view = view_of(self.loaded.scene.view(), &r.camera, &r.options);
-        let opts = match options_of(&r.options, self.loaded.scene.info()) {
-            Ok(opts) => opts,
+        let (opts, encoding) = match options_of(&r.options, self.loaded.scene.info()) {
+            Ok(resolved) => resolved,
             Err(message) => return ServerMessage::Error { message },
         };
+        // A picture of one ray through each pixel centre has no noise to remove.
+        let noisy = !matches!(opts.sampling, Sampling::PixelCenters | Sampling::SpdCorners);
         self.worker.submit(Job {
             gen: self.gen,
             loaded: self.loaded.clone(),
             prepare: prepare_options(&r.options),
             view,
             opts,
+            encoding,
+            denoiser: self.app.denoiser.clone().filter(|_| r.options.denoise && noisy),
+            reference: self.reference.clone(),
             start: Instant::now(),
         });
         ServerMessage::View {
@@ -226,7 +260,55 @@ impl Session {
             has_motion: info.has_moving_spheres(),
             load_s: l.load_s,
             limits: LimitsMsg::NFFRT,
+            denoiser: self
+                .app
+                .denoiser
+                .as_ref()
+                .map(|d| format!("Open Image Denoise {}", d.version())),
+            denoiser_help: self.app.denoiser_help.clone(),
         }
+    }
+
+    /// A reference picture the page sent: a binary message of a 4-byte length, a
+    /// JSON header `{"kind":"reference","name":NAME}` and the file's bytes. It
+    /// replaces the last one, and the current request is rendered again to be
+    /// measured against it.
+    fn reference_sent(&mut self, bytes: &[u8]) -> Vec<Reply> {
+        if bytes.len() > MAX_REFERENCE_BYTES {
+            return vec![error(format!(
+                "reference too large: {} bytes (at most {MAX_REFERENCE_BYTES})",
+                bytes.len()
+            ))];
+        }
+        let (name, file) = match reference_upload(bytes) {
+            Ok(parts) => parts,
+            Err(e) => return vec![error(e)],
+        };
+        let encoding = self.request.map_or_else(
+            || {
+                display_encoding(
+                    self.loaded.scene.info().integrator.unwrap_or_default(),
+                    self.loaded.scene.info().dialect.is_p3f(),
+                )
+            },
+            |r| {
+                options_of(&r.options, self.loaded.scene.info())
+                    .map_or(nffrt::image::Encoding::Linear, |o| o.1)
+            },
+        );
+        let reference = match Reference::decode(&name, file, encoding) {
+            Ok(r) => Arc::new(r),
+            Err(e) => return vec![error(e)],
+        };
+        let mut out = vec![
+            reference.message().into(),
+            Reply::Binary(reference.display_message().into()),
+        ];
+        self.reference = Some(reference);
+        if self.request.is_some() {
+            out.push(self.start("reference").into());
+        }
+        out
     }
 
     /// Starts tracing pixel `(x, y)` with the current request.
@@ -248,7 +330,7 @@ impl Session {
             let scene = &*loaded.prepared(&prepare_options(&r.options));
             let view = view_of(scene.view(), &r.camera, &r.options);
             let opts = match options_of(&r.options, scene.info()) {
-                Ok(opts) => opts,
+                Ok((opts, _)) => opts,
                 Err(message) => return ServerMessage::Error { message },
             };
             let trace = match trace_pixel(scene, &view, &opts, x, y) {
@@ -287,22 +369,57 @@ impl Session {
     /// `nffrt render`'s once converged).
     fn png(&self) -> Reply {
         let picture = self.worker.shown.picture.lock().ok().and_then(|p| p.clone());
-        let Some((gen, image, complete)) = picture.filter(|p| p.0 == self.gen) else {
+        let Some(ShownPicture {
+            gen,
+            image,
+            complete,
+            encoding,
+        }) = picture.filter(|p| p.gen == self.gen)
+        else {
             return error("no full-resolution picture yet");
         };
         let mut png = Vec::new();
-        if encode_png(
-            &image,
-            &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
-            &mut png,
-        )
-        .is_err()
-        {
+        let text = [(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
+        let rgb = image.to_rgb8_as(encoding);
+        if encode_png_rgb8(image.width, image.height, &rgb, &text, &mut png).is_err() {
             return error("the picture could not be encoded");
         }
         let header = serde_json::json!({ "kind": "png", "gen": gen, "complete": complete });
         Reply::Binary(encode_binary(&header, &png).into())
     }
+}
+
+/// The longest file name a reference upload may give.
+const MAX_NAME_BYTES: usize = 256;
+
+/// The name and the file's bytes of a reference upload (see
+/// `Session::reference_sent`).
+fn reference_upload(bytes: &[u8]) -> Result<(String, &[u8]), String> {
+    let bad = |why: &str| format!("bad reference upload: {why}");
+    let n = bytes
+        .get(..4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+        .ok_or_else(|| bad("no header"))?;
+    if n > 4096 || bytes.len() < 4 + n {
+        return Err(bad("the header's length is wrong"));
+    }
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Header {
+        kind: String,
+        name: String,
+    }
+    let header: Header = serde_json::from_slice(&bytes[4..4 + n]).map_err(|e| bad(&e.to_string()))?;
+    if header.kind != "reference" {
+        return Err(bad("its kind is not \"reference\""));
+    }
+    let name: String = header.name.chars().filter(|c| !c.is_control()).collect();
+    let name = if name.is_empty() || name.len() > MAX_NAME_BYTES {
+        "the picked file".to_string()
+    } else {
+        name
+    };
+    Ok((name, &bytes[4 + n..]))
 }
 
 /// Each primitive kind's printed name in `dialect`, keyed by its JSON name.

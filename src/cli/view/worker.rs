@@ -8,6 +8,13 @@
 //! request cancels the work between two rows; only the latest request waits, so
 //! the queue holds one job at most. Frames go out through a `watch` channel, which
 //! keeps only the newest: a slow socket skips frames instead of queueing them.
+//!
+//! With the denoise switch on, each finished pass is also denoised (Open Image
+//! Denoise's fast network, guided by AOVs traced once per generation) and that
+//! picture is shown instead, while the noisy one keeps refining. With a reference
+//! picture of the same size, each finished pass's picture as shown is measured
+//! against it (FLIP), and the measure and its map go out through a second channel
+//! that keeps them all (one per pass: a generation has at most 13).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -16,14 +23,16 @@ use std::time::{Duration, Instant};
 use axum::body::Bytes;
 use tokio::sync::watch;
 
-use super::protocol::{encode_binary, FrameHeader};
+use super::protocol::{encode_binary, FlipHeader, FrameHeader};
+use super::reference::Reference;
 use super::scene::Loaded;
-use nffrt::image::Image;
+use nffrt::denoise::{Denoiser, Quality};
+use nffrt::image::{Encoding, Image, Region};
 use nffrt::math::Vec3;
 use nffrt::options::RenderLimits;
 use nffrt::options::RenderOptions;
-use nffrt::prepare::PrepareOptions;
-use nffrt::render::{render_preview, Accumulator, Observer};
+use nffrt::prepare::{PrepareOptions, RenderScene};
+use nffrt::render::{render_aovs, render_preview, Accumulator, Aovs, Observer};
 use nffrt::scene::View;
 
 /// The most pixels the first, coarsest preview has.
@@ -45,6 +54,14 @@ pub struct Job {
     pub view: View,
     /// The settings.
     pub opts: RenderOptions,
+    /// How the pictures' 8-bit values hold the linear ones (as `nffrt render`
+    /// writes them).
+    pub encoding: Encoding,
+    /// The denoiser, when the page asks for denoised pictures of a render that has
+    /// noise.
+    pub denoiser: Option<Arc<Denoiser>>,
+    /// The reference the passes are measured against, if any.
+    pub reference: Option<Arc<Reference>>,
     /// When the request arrived.
     pub start: Instant,
 }
@@ -60,8 +77,29 @@ pub struct Frame {
 /// The latest full-resolution picture (for "save PNG").
 #[derive(Default)]
 pub struct Shown {
-    /// Generation and linear image, and whether it is converged.
-    pub picture: Mutex<Option<(u64, Arc<Image>, bool)>>,
+    /// The picture, once a pass has finished.
+    pub picture: Mutex<Option<ShownPicture>>,
+}
+
+/// A full-resolution picture shown.
+#[derive(Clone)]
+pub struct ShownPicture {
+    /// Its generation.
+    pub gen: u64,
+    /// Its linear values (denoised, if shown so).
+    pub image: Arc<Image>,
+    /// True once it has every sample.
+    pub complete: bool,
+    /// How its 8-bit values hold the linear ones.
+    pub encoding: Encoding,
+}
+
+/// Where a session's render thread sends its pictures.
+pub struct Outlets {
+    /// Frames: only the newest is kept.
+    pub frames: watch::Sender<Option<Arc<Frame>>>,
+    /// Error maps against the reference: every one is kept.
+    pub maps: tokio::sync::mpsc::UnboundedSender<Arc<Frame>>,
 }
 
 /// A session's render thread.
@@ -73,8 +111,8 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the thread; frames go to `frames`.
-    pub fn spawn(frames: watch::Sender<Option<Arc<Frame>>>) -> std::io::Result<Worker> {
+    /// Starts the thread; pictures go to `out`.
+    pub fn spawn(out: Outlets) -> std::io::Result<Worker> {
         let slot = Arc::new((Mutex::new(None::<Job>), Condvar::new()));
         let latest = Arc::new(AtomicU64::new(0));
         let shown = Arc::new(Shown::default());
@@ -83,7 +121,7 @@ impl Worker {
             .name("nffrt-view-render".into())
             .spawn(move || {
                 while let Some(job) = next_job(&s, &l) {
-                    run(&job, &l, &frames, &sh);
+                    run(&job, &l, &out, &sh);
                 }
             })?;
         Ok(Worker { slot, latest, shown })
@@ -159,12 +197,13 @@ impl Observer for Watch<'_> {
         let Ok(mut d) = display.lock() else { return };
         let w = self.job.opts.width as usize;
         let row = &mut d.0[3 * w * y as usize..3 * w * (y as usize + 1)];
+        let byte = self.job.encoding.quantizer();
         for (out, p) in row.chunks_exact_mut(3).zip(pixels) {
-            out.copy_from_slice(&rgb8(*p));
+            out.copy_from_slice(&[byte(p.x), byte(p.y), byte(p.z)]);
         }
         if d.1.elapsed() >= ROW_FRAME_INTERVAL && !self.cancelled() {
             d.1 = Instant::now();
-            let frame = frame(self.job, self.rays, 1, self.samples, false, &d.0);
+            let frame = frame(self.job, self.rays, (1, self.samples), [false, false], &d.0);
             self.frames.send_replace(Some(frame));
         }
     }
@@ -174,13 +213,16 @@ impl Observer for Watch<'_> {
     }
 }
 
-fn rgb8(p: Vec3) -> [u8; 3] {
-    use nffrt::image::quantize;
-    [quantize(p.x), quantize(p.y), quantize(p.z)]
-}
-
-/// A frame of `job` whose payload is `rgb` (one pixel per `stride` block).
-fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool, rgb: &[u8]) -> Arc<Frame> {
+/// A frame of `job` whose payload is `rgb` (one pixel per `stride` block) of
+/// `samples` per pixel; `[complete, denoised]`.
+fn frame(
+    job: &Job,
+    rays: &AtomicU64,
+    (stride, samples): (u32, u32),
+    flags: [bool; 2],
+    rgb: &[u8],
+) -> Arc<Frame> {
+    let [complete, denoised] = flags;
     let header = FrameHeader {
         kind: "frame",
         gen: job.gen,
@@ -192,6 +234,7 @@ fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool,
         rays: rays.load(Ordering::Relaxed),
         ms: job.start.elapsed().as_secs_f64() * 1e3,
         complete,
+        denoised,
     };
     Arc::new(Frame {
         gen: job.gen,
@@ -200,10 +243,11 @@ fn frame(job: &Job, rays: &AtomicU64, stride: u32, samples: u32, complete: bool,
 }
 
 /// Renders one generation until it converges or a newer one cancels it.
-fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>, shown: &Shown) {
+fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
     let prepared = job.loaded.prepared(&job.prepare);
     let scene = &*prepared;
     let opts = &job.opts;
+    let frames = &out.frames;
     let rays = AtomicU64::new(0);
     let mut watch = Watch {
         job,
@@ -222,8 +266,8 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         let Ok((image, _)) = render_preview(scene, &job.view, opts, stride, &watch) else {
             return;
         };
-        let rgb = image.to_rgb8();
-        frames.send_replace(Some(frame(job, &rays, stride, 0, false, &rgb)));
+        let rgb = image.to_rgb8_as(job.encoding);
+        frames.send_replace(Some(frame(job, &rays, (stride, 0), [false, false], &rgb)));
         upscale(&rgb, image.width as usize, stride as usize, w, &mut display);
         stride /= 2;
     }
@@ -231,17 +275,33 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         return;
     };
     let display = Mutex::new((display, Instant::now()));
+    let mut aovs = None;
     while !acc.is_complete() {
-        watch.display = Some(&display);
+        // A denoised picture is shown whole, once its pass is done: no noisy rows.
+        watch.display = job.denoiser.is_none().then_some(&display);
         watch.samples = acc.samples_done();
         let count = acc.samples_done().max(1);
         if acc.pass(scene, count, &watch).is_err() {
             return;
         }
-        let image = Arc::new(acc.image());
-        let rgb = image.to_rgb8();
+        let mut image = Arc::new(acc.image());
+        let mut denoised = false;
+        if let Some(denoiser) = &job.denoiser {
+            match denoise(denoiser, scene, job, &image, &mut aovs, &watch) {
+                Some(clean) => (image, denoised) = (Arc::new(clean), true),
+                None if watch.cancelled() => return,
+                None => {}
+            }
+        }
+        let rgb = image.to_rgb8_as(job.encoding);
+        let samples = acc.samples_done();
         if let Ok(mut s) = shown.picture.lock() {
-            *s = Some((job.gen, image, acc.is_complete()));
+            *s = Some(ShownPicture {
+                gen: job.gen,
+                image: image.clone(),
+                complete: acc.is_complete(),
+                encoding: job.encoding,
+            });
         }
         if watch.cancelled() {
             return;
@@ -249,16 +309,58 @@ fn run(job: &Job, latest: &AtomicU64, frames: &watch::Sender<Option<Arc<Frame>>>
         frames.send_replace(Some(frame(
             job,
             &rays,
-            1,
-            acc.samples_done(),
-            acc.is_complete(),
+            (1, samples),
+            [acc.is_complete(), denoised],
             &rgb,
         )));
+        if let Some(reference) = &job.reference {
+            if let Some((mean, map)) = reference.measure(&image, &rgb) {
+                let header = FlipHeader {
+                    kind: "flip",
+                    gen: job.gen,
+                    width: opts.width,
+                    height: opts.height,
+                    samples,
+                    mean,
+                    denoised,
+                };
+                let bytes = encode_binary(&header, &map).into();
+                let _ = out.maps.send(Arc::new(Frame { gen: job.gen, bytes }));
+            }
+        }
         if let Ok(mut d) = display.lock() {
             d.0 = rgb;
             d.1 = Instant::now();
         }
     }
+}
+
+/// `image` of `job` denoised at the fast quality, its guides traced on first use
+/// into `aovs`; `None` if cancelled or the denoiser failed.
+fn denoise(
+    denoiser: &Denoiser,
+    scene: &RenderScene,
+    job: &Job,
+    image: &Image,
+    aovs: &mut Option<Aovs>,
+    watch: &Watch<'_>,
+) -> Option<Image> {
+    if aovs.is_none() {
+        let full = Region::full(job.opts.width, job.opts.height);
+        *aovs = render_aovs(
+            scene,
+            &job.view,
+            &job.opts,
+            &full,
+            &RenderLimits::default(),
+            watch,
+        )
+        .ok();
+    }
+    let guides = aovs.as_ref()?;
+    denoiser
+        .denoise_render(image, guides, &job.opts, Quality::Fast)
+        .ok()
 }
 
 /// Spreads a preview (`cols` pixels a row, each for a `stride` block) over the

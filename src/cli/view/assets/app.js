@@ -13,7 +13,7 @@ const octx = overlay.getContext('2d');
 let ws = null;
 let scene = null; // the last `scene` message
 let camera = null; // {from, at, up, angle}: what the page asks for
-let options = null; // {width, height, max_depth, spp, lens, soft_shadows, rough, integrator, shutter, accel}
+let options = null; // {width, height, max_depth, spp, lens, soft_shadows, rough, integrator, shutter, accel, denoise}
 let shownGen = 0; // newest generation drawn: older frames are dropped
 let frames = 0;
 let fullFrames = 0;
@@ -81,6 +81,7 @@ function onText(msg) {
       return;
     case 'error': return flash(msg.message);
     case 'ray_tree': return showTree(msg);
+    case 'reference': return onReferenceMessage(msg);
   }
 }
 
@@ -99,6 +100,8 @@ function onScene(msg) {
   $('soft').disabled = !msg.has_area_lights;
   $('rough').disabled = !msg.has_roughness;
   $('shutter-open').disabled = $('shutter-close').disabled = !msg.has_motion;
+  $('denoise').disabled = !msg.denoiser;
+  $('denoise').parentElement.title = msg.denoiser || msg.denoiser_help || '';
   const lim = msg.limits;
   for (const [id, max] of [['width', lim.max_side], ['height', lim.max_side], ['depth', lim.max_depth], ['spp', lim.max_spp]]) {
     $(id).dataset.max = max;
@@ -123,6 +126,7 @@ function onBinary(buffer) {
   const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, n)));
   const payload = new Uint8Array(buffer, 4 + n);
   if (header.kind === 'png') return download(payload);
+  if (header.kind === 'reference' || header.kind === 'flip') return onCompareBinary(header, payload);
   if (header.gen < shownGen) return;
   shownGen = header.gen;
   draw(header, payload);
@@ -134,13 +138,14 @@ function onBinary(buffer) {
   body.dataset.stride = header.stride;
   body.dataset.samples = header.samples;
   body.dataset.complete = header.complete;
+  body.dataset.denoised = header.denoised;
   const c = scene ? scene.counts : null;
   const mrays = header.rays / Math.max(header.ms, 1e-3) / 1e3;
   // Samples per pixel per second: how fast the running average converges.
   const rate = header.samples / Math.max(header.ms / 1e3, 1e-3);
   const count = (n, word) => `${n} ${word}${n === 1 ? '' : 's'}`;
   $('status').textContent = [
-    header.stride > 1 ? `preview 1/${header.stride}` : `samples ${header.samples}/${header.target}`,
+    header.stride > 1 ? `preview 1/${header.stride}` : `samples ${header.samples}/${header.target}${header.denoised ? ' denoised' : ''}`,
     header.stride > 1 ? '' : `${rate < 10 ? rate.toFixed(2) : rate.toFixed(1)} samples/s`,
     `${mrays.toFixed(1)} Mrays/s`,
     `${(header.ms / 1e3).toFixed(2)} s`,
@@ -149,8 +154,17 @@ function onBinary(buffer) {
   ].filter((part) => part !== '').join(' · ');
 }
 
-// Draws a frame: full size, or a preview whose pixels stand for stride² blocks.
+// Draws a frame, unless the reference or the FLIP map is shown instead
+// (compare.js), which keeps it for when the live picture is shown again.
 function draw(h, rgb) {
+  lastLive = { h, rgb };
+  const sameSize = picture.width === h.width && picture.height === h.height;
+  if (sameSize && compareView !== 'live' && compareDraw()) return drawRays();
+  drawLive(h, rgb);
+}
+
+// Draws a live frame: full size, or a preview whose pixels stand for stride² blocks.
+function drawLive(h, rgb) {
   const cols = Math.ceil(h.width / h.stride), rows = Math.ceil(h.height / h.stride);
   if (picture.width !== h.width || picture.height !== h.height) {
     picture.width = overlay.width = h.width;
@@ -202,6 +216,7 @@ function showOptions() {
   $('accel').value = options.accel;
   $('shutter-open').value = options.shutter[0];
   $('shutter-close').value = options.shutter[1];
+  $('denoise').checked = !!options.denoise;
 }
 
 // Says why a setting was refused (and the old value kept), or clears the message.
@@ -245,6 +260,7 @@ for (const [id, key] of Object.entries(fields)) {
 $('lens').addEventListener('change', () => { options = { ...options, lens: $('lens').checked }; requestRender(); });
 $('soft').addEventListener('change', () => { options = { ...options, soft_shadows: $('soft').checked }; requestRender(); });
 $('rough').addEventListener('change', () => { options = { ...options, rough: $('rough').checked }; requestRender(); });
+$('denoise').addEventListener('change', () => { options = { ...options, denoise: $('denoise').checked }; requestRender(); });
 $('integrator').addEventListener('change', () => { options = { ...options, integrator: $('integrator').value }; requestRender(); });
 // The same picture with each structure; the status line's samples per second differ.
 $('accel').addEventListener('change', () => { options = { ...options, accel: $('accel').value }; requestRender(); });
