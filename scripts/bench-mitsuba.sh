@@ -8,7 +8,11 @@
 # each takes to the same RMSE (scripts/rmse-mitsuba.py).
 #
 #   scripts/bench-mitsuba.sh [RUNS]     RUNS runs of each (default 3)
-#   SIZE=512 SPP=256 DEPTH=8            the picture, samples and depth
+#   SCENE=cornell|glass-mirror          the scene (default cornell; glass-mirror is
+#                                       examples/glass-mirror.p3f, a closed room with a
+#                                       mirror sphere, a glass sphere and a quad light)
+#   SIZE=512 SPP=256 DEPTH=8            the picture, samples and depth (DEPTH's default:
+#                                       8 for cornell, 12 for glass-mirror, as compared)
 #   VARIANTS="llvm_ad_rgb scalar_rgb"   the Mitsuba variants to time
 #   RMSE=0                              without the time to equal RMSE
 # Environment: see scripts/mitsuba-env.sh (MITSUBA_PY, NFFRT, DRJIT_LIBLLVM_PATH).
@@ -18,7 +22,12 @@ source scripts/mitsuba-env.sh
 runs=${1:-3}
 size=${SIZE:-512}
 spp=${SPP:-256}
-depth=${DEPTH:-8}
+scene=${SCENE:-cornell}
+case "$scene" in
+    cornell) depth=${DEPTH:-8} ;;
+    glass-mirror) depth=${DEPTH:-12} ;;
+    *) echo "bench-mitsuba: SCENE must be cornell or glass-mirror, not '$scene'" >&2; exit 2 ;;
+esac
 variants=${VARIANTS:-llvm_ad_rgb scalar_rgb}
 [ -n "${DRJIT_LIBLLVM_PATH:-}" ] || variants=${variants//llvm_ad_rgb/}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -39,10 +48,10 @@ timed() {
         'BEGIN {printf "%.3f %.3f\n", (b-a)/1e9, (d-c)/hz}' >>"$tmp/$name"
 }
 nffrt_run() {
-    "$NFFRT" render examples/cornell.p3f --integrator path --spp "$spp" --max-depth "$depth" \
+    "$NFFRT" render "examples/$scene.p3f" --integrator path --spp "$spp" --max-depth "$depth" \
         --width "$size" --height "$size" -q -o "$tmp/nffrt.exr"
 }
-mitsuba_run() { "$MITSUBA_PY" scripts/mitsuba_render.py "$1" cornell "$size" "$spp" "$tmp/$1.exr"; }
+mitsuba_run() { "$MITSUBA_PY" scripts/mitsuba_render.py "$1" "$scene" "$size" "$spp" "$tmp/$1.exr"; }
 
 load() { awk '{print $1, $2, $3}' /proc/loadavg; }
 echo "== load average before: $(load) (another job on the cores skews every figure)"
@@ -53,7 +62,7 @@ for _ in $(seq "$runs"); do
     timed nffrt nffrt_run
     for v in $variants; do timed "$v" mitsuba_run "$v"; done
 done
-echo "== Cornell box ${size}x${size}, $spp spp, max depth $depth: median of $runs alternating runs"
+echo "== $scene ${size}x${size}, $spp spp, max depth $depth: median of $runs alternating runs"
 printf '%-22s %9s %9s %10s %12s\n' renderer "wall s" "CPU s" "wall ratio" "Msamples/s"
 nffrt_s=$(cut -d' ' -f1 "$tmp/nffrt" | median)
 row() {
@@ -71,6 +80,8 @@ echo "== load average after the medians: $(load)"
 # Time to equal error, against the converged reference compare-mitsuba.sh leaves.
 if [ "${RMSE:-1}" = 0 ]; then
     echo "(RMSE=0: no time to equal RMSE)"
+elif [ "$scene" != cornell ]; then
+    echo "(time to equal RMSE: the Cornell box only)"
 elif ls target/mitsuba-compare/cornell-*-[12].exr >/dev/null 2>&1; then
     "$MITSUBA_PY" scripts/rmse-mitsuba.py "$NFFRT" "$MITSUBA_PY" $variants
 else

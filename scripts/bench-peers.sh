@@ -11,7 +11,8 @@
 #                                         (nffrt's kernels are AVX2, picked at run time)
 #   NFFRT_SIMD=avx2|portable              nffrt's kernels (default auto; see docs/speed.md)
 #   SECTIONS=embree                       only the sections against Embree (the ones EMBREE_ISA
-#                                         changes); default all
+#                                         changes); SECTIONS=renders only the whole renders
+#                                         against POV-Ray; default all
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
@@ -47,8 +48,9 @@ total() { for scene in "$@"; do timed "$nffrt" render "$scene" $NFFRT_FLAGS -q -
 # Medians of the two columns of "wall cpu" lines.
 median2() { local in; in=$(cat); echo "$(echo "$in" | cut -d' ' -f1 | median) $(echo "$in" | cut -d' ' -f2 | median)"; }
 
-# SECTIONS=embree runs only the sections with Embree (those EMBREE_ISA changes).
-if [ "${SECTIONS:-all}" = all ]; then
+# SECTIONS=embree runs only the sections with Embree (those EMBREE_ISA changes),
+# SECTIONS=renders only the whole renders.
+if [ "${SECTIONS:-all}" != embree ]; then
 spd=(balls gears mount rings teapot tetra tree)
 echo "== whole renders (wall and CPU seconds, user + system, median of $runs)"
 spd_files=(); for s in "${spd[@]}"; do spd_files+=("$shared/scenes/spd/$s.nff"); done
@@ -61,6 +63,7 @@ if command -v povray >/dev/null; then
     read -r pov pov_cpu < <(for _ in $(seq "$runs"); do for n in "${spd[@]}"; do timed "$shared/bench/povray_peer.sh" "$n"; done | sum2; done | median2)
     echo "POV-Ray 3.7, 7 SPD scenes:        $pov s wall, $pov_cpu s CPU   (ratio POV-Ray / nffrt = $(awk -v a="$pov" -v b="$nffrt_spd" 'BEGIN {printf "%.1f", a/b}') wall, $(awk -v a="$pov_cpu" -v b="$nffrt_spd_cpu" 'BEGIN {printf "%.1f", a/b}') CPU)"
 fi
+[ "${SECTIONS:-all}" = renders ] && exit 0
 
 echo "== scale: nffrt gen balls, sizes 4 (7 381 spheres) and 6 (597 871), 1 thread (median of $runs)"
 printf '%-8s %10s %10s %10s %12s %12s %14s\n' size spheres parse_s build_s primary_mrays random_mrays primary_packet
