@@ -22,8 +22,9 @@ use tokio::sync::{broadcast, OwnedSemaphorePermit, Semaphore};
 use super::scene::{Current, Loaded, SceneEvent};
 use super::{assets, security, session};
 
-/// The most WebSocket sessions at once (each has a render thread and a picture).
-pub const MAX_SESSIONS: usize = 8;
+/// The most WebSocket sessions at once (each has a render thread and a picture):
+/// a classroom's pages on one server.
+pub const MAX_SESSIONS: usize = 32;
 /// The most TCP connections at once; further ones wait in the system's backlog.
 pub const MAX_CONNECTIONS: usize = 64;
 /// The largest WebSocket message read at all: a reference picture's upload
