@@ -53,6 +53,8 @@ pub struct App {
     pub events: broadcast::Sender<SceneEvent>,
     /// Open sessions.
     pub sessions: AtomicUsize,
+    /// The sessions' renders, waiting for their turns.
+    pub turns: Arc<super::turns::Turns>,
     /// Open Image Denoise, if it is installed.
     pub denoiser: Option<Arc<nffrt::denoise::Denoiser>>,
     /// Why there is no denoiser and how to get one.
