@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
-use view_client::{render_msg, Client, Msg, Server};
+use view_client::{orbit, render_msg, Client, Msg, Server};
 
 /// Camera messages timed for the latency.
 const LATENCY_SAMPLES: usize = 40;
@@ -27,28 +27,6 @@ const LATENCY_SAMPLES: usize = 40;
 const DRAG: Duration = Duration::from_secs(4);
 /// Camera messages a second during the drag (a mouse's rate).
 const DRAG_RATE: f64 = 60.0;
-
-/// `camera` turned by `degrees` about its up axis through its look-at point.
-fn orbit(camera: &Value, degrees: f64) -> Value {
-    let v = |key: &str| -> [f64; 3] { std::array::from_fn(|i| camera[key][i].as_f64().unwrap()) };
-    let (from, at, up) = (v("from"), v("at"), v("up"));
-    let n = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
-    let k = [up[0] / n, up[1] / n, up[2] / n];
-    let p = [from[0] - at[0], from[1] - at[1], from[2] - at[2]];
-    let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
-    let kxp = [
-        k[1] * p[2] - k[2] * p[1],
-        k[2] * p[0] - k[0] * p[2],
-        k[0] * p[1] - k[1] * p[0],
-    ];
-    let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    let turned: Vec<f64> = (0..3)
-        .map(|i| at[i] + p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
-        .collect();
-    let mut out = camera.clone();
-    out["from"] = serde_json::json!(turned);
-    out
-}
 
 fn ack(client: &mut Client) -> u64 {
     client.until_json("view", |_| {})["gen"].as_u64().unwrap()

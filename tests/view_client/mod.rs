@@ -9,7 +9,7 @@ use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
@@ -27,6 +27,8 @@ pub struct Server {
     child: Child,
     /// The lines of its standard output after the first, as they come.
     stdout: mpsc::Receiver<String>,
+    /// The lines of its standard error, when kept.
+    stderr: Arc<Mutex<Vec<String>>>,
     /// Its port.
     pub port: u16,
     /// Its access token.
@@ -43,6 +45,24 @@ impl Server {
 
     /// [`Server::start`] with `input` written to its standard input (then closed).
     pub fn start_with_input(scene: &Path, extra: &[&str], input: Option<&[u8]>) -> Server {
+        Server::launch(scene, extra, input, Stdio::inherit())
+    }
+
+    /// [`Server::start`] with its standard error kept: [`Server::stderr`] reads it.
+    pub fn start_keeping_stderr(scene: &Path, extra: &[&str]) -> Server {
+        let mut server = Server::launch(scene, extra, None, Stdio::piped());
+        let stderr = server.child.stderr.take().expect("piped stderr");
+        let kept = server.stderr.clone();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { break };
+                kept.lock().unwrap().push(line);
+            }
+        });
+        server
+    }
+
+    fn launch(scene: &Path, extra: &[&str], input: Option<&[u8]>, stderr: Stdio) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_nffrt"))
             .arg("view")
             .arg(scene)
@@ -54,7 +74,7 @@ impl Server {
                 Stdio::null()
             })
             .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
+            .stderr(stderr)
             .spawn()
             .expect("nffrt starts");
         if let Some(bytes) = input {
@@ -82,10 +102,22 @@ impl Server {
         Server {
             child,
             stdout: rx,
+            stderr: Arc::default(),
             port: port.parse().expect("a port"),
             token: token.to_string(),
             url,
         }
+    }
+
+    /// Its process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// What it printed on standard error so far (with
+    /// [`Server::start_keeping_stderr`]; empty otherwise).
+    pub fn stderr(&self) -> Vec<String> {
+        self.stderr.lock().unwrap().clone()
     }
 
     /// The server's `Host` header value.
@@ -347,4 +379,28 @@ pub fn render_msg(camera: &Value, width: u32, height: u32, spp: u32) -> Value {
             "lens": true, "soft_shadows": true
         }
     })
+}
+
+/// `camera` turned by `degrees` about its up axis through its look-at point, each
+/// number rounded to the `f32` the server reads: a scene file written with these
+/// numbers has this very camera.
+pub fn orbit(camera: &Value, degrees: f64) -> Value {
+    let v = |key: &str| -> [f64; 3] { std::array::from_fn(|i| camera[key][i].as_f64().unwrap()) };
+    let (from, at, up) = (v("from"), v("at"), v("up"));
+    let n = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
+    let k = [up[0] / n, up[1] / n, up[2] / n];
+    let p = [from[0] - at[0], from[1] - at[1], from[2] - at[2]];
+    let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
+    let kxp = [
+        k[1] * p[2] - k[2] * p[1],
+        k[2] * p[0] - k[0] * p[2],
+        k[0] * p[1] - k[1] * p[0],
+    ];
+    let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
+    let turned: Vec<f32> = (0..3)
+        .map(|i| (at[i] + p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c)) as f32)
+        .collect();
+    let mut out = camera.clone();
+    out["from"] = serde_json::json!(turned);
+    out
 }

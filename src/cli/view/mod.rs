@@ -6,6 +6,7 @@
 //! watched and rendered again when it changes. The rooms: `server.rs` (routes,
 //! guard, connection limit), `security.rs` (token, Host and Origin checks),
 //! `session.rs` (one page's WebSocket), `worker.rs` (its render thread),
+//! `turns.rs` (whose render runs next, across the sessions),
 //! `protocol.rs` (the messages), `camera.rs` (views and camera blocks),
 //! `scene.rs` (loading and live reload), `assets.rs` (the page), `addresses.rs` (the
 //! URLs printed).
@@ -19,6 +20,7 @@ mod scene;
 mod security;
 mod server;
 mod session;
+mod turns;
 mod worker;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -144,6 +146,7 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
         scene: Arc::new(RwLock::new(Arc::new(loaded))),
         events,
         sessions: AtomicUsize::new(0),
+        turns: Arc::default(),
         denoiser,
         denoiser_help,
         reference,

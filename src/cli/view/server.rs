@@ -22,8 +22,9 @@ use tokio::sync::{broadcast, OwnedSemaphorePermit, Semaphore};
 use super::scene::{Current, Loaded, SceneEvent};
 use super::{assets, security, session};
 
-/// The most WebSocket sessions at once (each has a render thread and a picture).
-pub const MAX_SESSIONS: usize = 8;
+/// The most WebSocket sessions at once (each has a render thread and a picture):
+/// a classroom's pages on one server.
+pub const MAX_SESSIONS: usize = 32;
 /// The most TCP connections at once; further ones wait in the system's backlog.
 pub const MAX_CONNECTIONS: usize = 64;
 /// The largest WebSocket message read at all: a reference picture's upload
@@ -52,6 +53,8 @@ pub struct App {
     pub events: broadcast::Sender<SceneEvent>,
     /// Open sessions.
     pub sessions: AtomicUsize,
+    /// The sessions' renders, waiting for their turns.
+    pub turns: Arc<super::turns::Turns>,
     /// Open Image Denoise, if it is installed.
     pub denoiser: Option<Arc<nffrt::denoise::Denoiser>>,
     /// Why there is no denoiser and how to get one.

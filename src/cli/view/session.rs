@@ -59,7 +59,7 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
         frames: frames_tx,
         maps: maps_tx,
     };
-    let Ok(worker) = Worker::spawn(outlets) else {
+    let Ok(worker) = Worker::spawn(outlets, app.turns.clone()) else {
         return;
     };
     let mut events = app.events.subscribe();

@@ -26,6 +26,7 @@ use tokio::sync::watch;
 use super::protocol::{encode_binary, FlipHeader, FrameHeader};
 use super::reference::Reference;
 use super::scene::Loaded;
+use super::turns::{Turn, Turns};
 use nffrt::denoise::{Denoiser, Quality};
 use nffrt::image::{Encoding, Image, Region};
 use nffrt::math::Vec3;
@@ -106,28 +107,37 @@ pub struct Outlets {
 pub struct Worker {
     slot: Arc<(Mutex<Option<Job>>, Condvar)>,
     latest: Arc<AtomicU64>,
+    /// The server's queue of renders, which this thread's renders wait in.
+    turns: Arc<Turns>,
     /// Its latest picture.
     pub shown: Arc<Shown>,
 }
 
 impl Worker {
-    /// Starts the thread; pictures go to `out`.
-    pub fn spawn(out: Outlets) -> std::io::Result<Worker> {
+    /// Starts the thread, whose renders take their turns in `turns`; pictures go
+    /// to `out`.
+    pub fn spawn(out: Outlets, turns: Arc<Turns>) -> std::io::Result<Worker> {
         let slot = Arc::new((Mutex::new(None::<Job>), Condvar::new()));
         let latest = Arc::new(AtomicU64::new(0));
         let shown = Arc::new(Shown::default());
-        let (s, l, sh) = (slot.clone(), latest.clone(), shown.clone());
+        let (s, l, sh, t) = (slot.clone(), latest.clone(), shown.clone(), turns.clone());
         std::thread::Builder::new()
             .name("nffrt-view-render".into())
             .spawn(move || {
                 while let Some(job) = next_job(&s, &l) {
-                    run(&job, &l, &out, &sh);
+                    run(&job, &l, &t, &out, &sh);
                 }
             })?;
-        Ok(Worker { slot, latest, shown })
+        Ok(Worker {
+            slot,
+            latest,
+            turns,
+            shown,
+        })
     }
 
-    /// Replaces any waiting request with `job` and cancels the running one.
+    /// Replaces any waiting request with `job` and cancels the running one (also
+    /// while it waits for its turn).
     pub fn submit(&self, job: Job) {
         self.latest.store(job.gen, Ordering::SeqCst);
         let (lock, ready) = &*self.slot;
@@ -135,6 +145,7 @@ impl Worker {
             *slot = Some(job);
         }
         ready.notify_one();
+        self.turns.wake();
     }
 }
 
@@ -147,6 +158,7 @@ impl Drop for Worker {
             *slot = None;
         }
         ready.notify_one();
+        self.turns.wake();
     }
 }
 
@@ -180,6 +192,7 @@ pub fn first_stride(width: u32, height: u32) -> u32 {
 struct Watch<'a> {
     job: &'a Job,
     latest: &'a AtomicU64,
+    turns: &'a Turns,
     rays: &'a AtomicU64,
     frames: &'a watch::Sender<Option<Arc<Frame>>>,
     /// The picture being shown (8-bit RGB, full size) and when it last went out.
@@ -213,6 +226,14 @@ impl Observer for Watch<'_> {
     }
 }
 
+impl Watch<'_> {
+    /// Waits for a turn to render (for the generation's first frame if `first`);
+    /// `None` once a newer request cancels this one.
+    fn turn(&self, first: bool) -> Option<Turn<'_>> {
+        self.turns.take(first, || self.cancelled())
+    }
+}
+
 /// A frame of `job` whose payload is `rgb` (one pixel per `stride` block) of
 /// `samples` per pixel; `[complete, denoised]`.
 fn frame(
@@ -242,8 +263,9 @@ fn frame(
     })
 }
 
-/// Renders one generation until it converges or a newer one cancels it.
-fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
+/// Renders one generation until it converges or a newer one cancels it, each
+/// render in its turn.
+fn run(job: &Job, latest: &AtomicU64, turns: &Turns, out: &Outlets, shown: &Shown) {
     let prepared = job.loaded.prepared(&job.prepare);
     let scene = &*prepared;
     let opts = &job.opts;
@@ -252,6 +274,7 @@ fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
     let mut watch = Watch {
         job,
         latest,
+        turns,
         rays: &rays,
         frames,
         display: None,
@@ -260,12 +283,18 @@ fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
     let (w, h) = (opts.width as usize, opts.height as usize);
     let mut display = vec![0u8; 3 * w * h];
     let mut stride = first_stride(opts.width, opts.height);
+    // The generation's first render is its first frame.
+    let mut first = true;
     while stride > 1 {
+        let Some(turn) = watch.turn(std::mem::take(&mut first)) else {
+            return;
+        };
         // Refused options never get here (the session checks them first): only a
         // newer request cancels.
         let Ok((image, _)) = render_preview(scene, &job.view, opts, stride, &watch) else {
             return;
         };
+        drop(turn);
         let rgb = image.to_rgb8_as(job.encoding);
         frames.send_replace(Some(frame(job, &rays, (stride, 0), [false, false], &rgb)));
         upscale(&rgb, image.width as usize, stride as usize, w, &mut display);
@@ -281,13 +310,22 @@ fn run(job: &Job, latest: &AtomicU64, out: &Outlets, shown: &Shown) {
         watch.display = job.denoiser.is_none().then_some(&display);
         watch.samples = acc.samples_done();
         let count = acc.samples_done().max(1);
+        let Some(turn) = watch.turn(std::mem::take(&mut first)) else {
+            return;
+        };
         if acc.pass(scene, count, &watch).is_err() {
             return;
         }
+        drop(turn);
         let mut image = Arc::new(acc.image());
         let mut denoised = false;
         if let Some(denoiser) = &job.denoiser {
-            match denoise(denoiser, scene, job, &image, &mut aovs, &watch) {
+            let Some(turn) = watch.turn(false) else {
+                return;
+            };
+            let clean = denoise(denoiser, scene, job, &image, &mut aovs, &watch);
+            drop(turn);
+            match clean {
                 Some(clean) => (image, denoised) = (Arc::new(clean), true),
                 None if watch.cancelled() => return,
                 None => {}
