@@ -49,11 +49,14 @@ impl Vertices8<'_> {
 
     fn frame(&self) -> Frame8 {
         let n = self.len();
-        let axis = |a: usize| V3x8::gather(n, |k| self.vertex(k).frame.axes()[a]);
+        let mut axes = [[Vec3::ZERO; 3]; LANES];
+        for (k, axes) in axes.iter_mut().enumerate().take(n) {
+            *axes = self.vertex(k).frame.axes();
+        }
         Frame8 {
-            s: axis(0),
-            t: axis(1),
-            n: axis(2),
+            s: V3x8::gather(n, |k| axes[k][0]),
+            t: V3x8::gather(n, |k| axes[k][1]),
+            n: V3x8::gather(n, |k| axes[k][2]),
         }
     }
 
@@ -181,7 +184,10 @@ impl PathTracer<'_> {
                 0.0
             }
         });
-        let u: [(f32, f32); LANES] = std::array::from_fn(|k| v.id(k.min(n - 1)).point(Dim::Bsdf { depth }));
+        let mut u = [(0.0, 0.0); LANES];
+        for (k, u) in u.iter_mut().enumerate() {
+            *u = v.id(k.min(n - 1)).point(Dim::Bsdf { depth });
+        }
         let diffuse = lobe.simd_lt(f32x8::splat(pd));
         let mirror = !diffuse & lobe.simd_lt(f32x8::splat(pd + pm));
         // Lanes past both lobes: the scalar step.
