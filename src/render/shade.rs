@@ -152,6 +152,14 @@ pub trait Rules {
         false
     }
 
+    /// The normals a smooth surface of facing geometric normal `n` and shading
+    /// normal `ns` sends its secondary rays about: `n` but in AFF, whose original
+    /// reflects and refracts about the interpolated normal.
+    #[inline(always)]
+    fn smooth_facets(n: Vec3, _ns: Vec3) -> Facets {
+        Facets::smooth(n)
+    }
+
     /// What `m` reflects of the ambient light, given its `diffuse` colour `Kd * C`:
     /// the diffuse colour but in AFF (see the module docs).
     #[inline(always)]
@@ -317,12 +325,25 @@ impl Rules for AffRules {
         m.ambient
     }
 
+    /// About the shading normal.
     #[inline(always)]
-    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, _: &Facets) -> Secondary {
+    fn smooth_facets(_n: Vec3, ns: Vec3) -> Facets {
+        Facets::smooth(ns)
+    }
+
+    /// About `facets` (the shading normal), each ray folded back to its side of the
+    /// surface `n` where the interpolated normal would send it across.
+    #[inline(always)]
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, facets: &Facets) -> Secondary {
         // The original's `col1 * mat.specular * (1 - mat.T)`; it traces the mirror
         // ray again for the transmitted share under total internal reflection.
-        let mut split = whitted_split(m, d, n, entering, m.specular * (m.ks * (1.0 - m.t)));
-        split.reflection = split.reflection.filter(|r| r.1 != Vec3::ZERO);
+        let mirror = m.specular * (m.ks * (1.0 - m.t));
+        let mut split = whitted_split(m, d, facets.reflection, entering, mirror);
+        split.reflection = split
+            .reflection
+            .filter(|r| r.1 != Vec3::ZERO)
+            .map(|(kind, w, dir)| (kind, w, on_side(dir, n, true)));
+        split.refraction = split.refraction.map(|(dir, w)| (on_side(dir, n, false), w));
         split
     }
 }
@@ -435,5 +456,15 @@ mod tests {
         };
         assert_eq!(Model::Aff.secondary(&matte, -n, n, true).reflection, None);
         assert_eq!(AffRules::ambient_reflectance(&matte, Vec3::ONE), Vec3::splat(0.3));
+        // Smooth mirrors reflect about the interpolated normal (0.6, 0.8, 0), not the
+        // flat facet's (0, 1, 0): straight down, -y, comes back along
+        // d - 2 (d.ns) ns = (0.96, 0.28, 0).
+        let mirror = Material { t: 0.0, ..glass };
+        let ns = Vec3::new(0.6, 0.8, 0.0);
+        let facets = AffRules::smooth_facets(n, ns);
+        let (_, _, dir) = AffRules::secondary(&mirror, -n, n, true, &facets)
+            .reflection
+            .unwrap();
+        assert!(close(dir, Vec3::new(0.96, 0.28, 0.0)), "{dir:?}");
     }
 }

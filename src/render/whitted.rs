@@ -279,7 +279,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         let facets = if rough {
             Self::facets(m, ray.dir, n, depth, id)
         } else {
-            Facets::smooth(n)
+            M::smooth_facets(n, ns)
         };
         let secondary = M::secondary(m, ray.dir, n, entering, &facets);
         if let Some((dir, weight)) = secondary.refraction {
