@@ -13,8 +13,10 @@ macro_rules! outln {
     }};
 }
 
+mod animation;
 mod bench;
 mod diff;
+mod frames;
 mod gen;
 mod image_out;
 mod info;

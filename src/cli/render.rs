@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
+use super::frames::{self, FrameArgs};
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::{refused, RenderLimitArgs};
 use super::load::{load_scene, print_warnings, Need};
@@ -13,7 +14,7 @@ use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
-use super::{interrupt, pixel, CliError};
+use super::{animation, interrupt, pixel, CliError};
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
 use nffrt::image::Region;
@@ -131,6 +132,9 @@ pub struct RenderArgs {
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// The frames of an animated (AFF) scene.
+    #[command(flatten)]
+    pub frames: FrameArgs,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: RenderLimitArgs,
@@ -150,7 +154,7 @@ fn default_output(scene: &Path, region: Option<&Region>) -> PathBuf {
 }
 
 /// The 8-bit encoding `--srgb` asks for; refused for the float formats.
-fn encoding(args: &RenderArgs, format: ImageFormat, out_path: &Path) -> Result<Encoding, CliError> {
+pub fn encoding(args: &RenderArgs, format: ImageFormat, out_path: &Path) -> Result<Encoding, CliError> {
     match (args.srgb, format.is_8bit()) {
         (false, _) => Ok(Encoding::Linear),
         (true, true) => Ok(Encoding::Srgb),
@@ -272,9 +276,20 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         Need::Render
     };
     let t0 = Instant::now();
-    let loaded = pool.install(|| load_scene(&args.scene, &args.limits.scene, need))?;
+    let mut loaded = pool.install(|| load_scene(&args.scene, &args.limits.scene, need))?;
     let load_s = t0.elapsed().as_secs_f64();
     print_warnings(&loaded, 20);
+    let mut out_path = out_path;
+    match frames::plan(&args.frames, &loaded, &args.scene, args.output.as_deref())?.as_deref() {
+        None => {}
+        Some([one]) => {
+            loaded.scene = frames::flatten(&loaded, one)?;
+            // A tile records the time it shows: tiles of two frames never merge.
+            loaded.fingerprint = loaded.fingerprint.map(|f| frames::fingerprint_at(f, one.time));
+            out_path = one.output.clone();
+        }
+        Some(several) => return animation::run(&args, &pool, &loaded, several),
+    }
     let info = loaded.scene.info();
     let opts = resolve(&args, &info)?;
     let full = Region::full(opts.width, opts.height);
@@ -383,7 +398,7 @@ fn tile_text(region: &Region, opts: &RenderOptions, scene: u64) -> [(&'static st
     ]
 }
 
-fn progress_mode(args: &RenderArgs) -> ProgressMode {
+pub fn progress_mode(args: &RenderArgs) -> ProgressMode {
     match (args.quiet, args.progress) {
         (true, _) => ProgressMode::Off,
         (false, true) => ProgressMode::Lines,
