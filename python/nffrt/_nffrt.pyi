@@ -88,6 +88,8 @@ class Scene:
         light_samples: Optional[int] = None,
         seed: Optional[int] = None,
         integrator: Optional[str] = None,
+        frame: Optional[int] = None,
+        time: Optional[float] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
         linear RGB, the values ``nffrt render -o X.pfm`` writes. An argument left
@@ -97,6 +99,9 @@ class Scene:
         ``light_samples`` samples every area light on an N x N grid at every hit;
         ``seed`` chooses another, as deterministic, sample pattern (0: the usual
         one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's).
+        An AFF scene renders frame 0 unless ``frame`` (0 to ``frames - 1``) or
+        ``time`` asks for another, as ``nffrt render --frame``/``--time`` does
+        (``ValueError`` for a scene that does not move).
         Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
     def image_size(self, width: Optional[int] = None, height: Optional[int] = None) -> Tuple[int, int]:
         """The ``(width, height)`` ``render`` makes with these arguments."""
@@ -111,7 +116,12 @@ class Scene:
         """The text ``parse`` was given (``None`` for a loaded file)."""
     @property
     def format(self) -> str:
-        """``"nff"``, ``"p3f-2019"`` or ``"p3f-2025"``."""
+        """``"nff"``, ``"p3f-2019"``, ``"p3f-2025"`` or ``"aff"``."""
+    @property
+    def frames(self) -> Optional[int]:
+        """An AFF scene's number of frames; ``None`` for a scene that does not move."""
+    def frame_time(self, n: int) -> float:
+        """The time of an AFF scene's frame ``n``."""
     @property
     def width(self) -> int: ...
     @property
@@ -135,13 +145,13 @@ class Scene:
         """A preview at most 256 pixels on a side, as PNG (Jupyter)."""
 
 def load(path: StrPath, format: Optional[str] = None) -> Scene:
-    """Reads and prepares a scene file (``format``: ``"nff"``, ``"p3f"``, or by the
+    """Reads and prepares a scene file (``format``: ``"nff"``, ``"p3f"``, ``"aff"`` or by the
     extension). Raises ``SceneError`` or ``OSError``."""
 
 def parse(
     text: Union[str, bytes], format: Optional[str] = None, path: Optional[StrPath] = None
 ) -> Scene:
-    """Parses and prepares scene text (``format``: ``"nff"``, ``"p3f"``, or by
+    """Parses and prepares scene text (``format``: ``"nff"``, ``"p3f"``, ``"aff"`` or by
     ``path``'s extension, else NFF); ``path`` names the file the text is (in errors,
     and for the folder of its skybox). Raises ``SceneError``."""
 
