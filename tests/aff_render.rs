@@ -9,8 +9,9 @@ use common::scratch_dir;
 use nffrt::image::Image;
 use nffrt::load::{load, LoadOptions, Source};
 use nffrt::options::RenderOptions;
-use nffrt::prepare;
+use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::render;
+use nffrt::scene::Accel;
 
 /// A 5 x 5 binary PPM whose texel (x, y) (column, row from the top) is
 /// `(60 x, 60 y, 255 at (1, 1) else 0)`.
@@ -35,11 +36,20 @@ const HEAD: &str = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 17.0615312199 hither 1 
 
 /// The picture of `text` (with `ramp.ppm` beside it) as 8-bit RGB rows.
 fn render_aff(dir: &Path, text: &str) -> Vec<[u8; 3]> {
+    render_aff_with(dir, text, None)
+}
+
+/// [`render_aff`] with the acceleration structure `accel` (`None`: the default).
+fn render_aff_with(dir: &Path, text: &str, accel: Option<Accel>) -> Vec<[u8; 3]> {
     std::fs::write(dir.join("ramp.ppm"), ramp_ppm()).unwrap();
     let path = dir.join("scene.aff");
     std::fs::write(&path, text).unwrap();
     let loaded = load(Source::File(&path), &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-    let scene = prepare(loaded.scene, &loaded.assets);
+    let options = PrepareOptions {
+        accel,
+        ..PrepareOptions::default()
+    };
+    let scene = prepare_with(loaded.scene, &loaded.assets, &options);
     let opts = RenderOptions::from_view(scene.view());
     let (image, _): (Image, _) = render(&scene, scene.view(), &opts).unwrap();
     image.to_rgb8().chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
@@ -72,15 +82,18 @@ fn assert_shows_the_ramp(got: &[[u8; 3]]) {
     }
 }
 
+/// The quad |x|, |y| <= 1 as two `tt` triangles: corners (x, y, 0) with
+/// u = (x + 1) / 2, v = (1 - y) / 2.
+const QUAD: &str = "tt ramp.ppm -1 -1 0 0 1   1 -1 0 1 1   1 1 0 1 0\n\
+                    tt ramp.ppm -1 -1 0 0 1   1 1 0 1 0   -1 1 0 0 0\n";
+
 #[test]
 fn a_textured_quad_shows_its_texels_bilinearly_on_the_originals_scale() {
     let dir = scratch_dir("aff_render", "tt");
-    // Two `tt` triangles: corners (x, y, 0) with u = (x + 1) / 2, v = (1 - y) / 2.
-    let text = format!(
-        "{HEAD}tt ramp.ppm -1 -1 0 0 1   1 -1 0 1 1   1 1 0 1 0\n\
-         tt ramp.ppm -1 -1 0 0 1   1 1 0 1 0   -1 1 0 0 0\n"
-    );
-    assert_shows_the_ramp(&render_aff(&dir, &text));
+    // The same picture through each acceleration structure.
+    for accel in [None, Some(Accel::Grid), Some(Accel::None)] {
+        assert_shows_the_ramp(&render_aff_with(&dir, &format!("{HEAD}{QUAD}"), accel));
+    }
 }
 
 #[test]
