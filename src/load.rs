@@ -259,7 +259,7 @@ pub fn load_cancellable(
         .fingerprint
         .then(|| {
             // An AFF scene's included files and textures count as files it names.
-            let textures = aff.iter().flat_map(|a| a.textures.iter().map(|t| &t.rgb[..]));
+            let textures = aff.iter().flat_map(|a| a.textures.iter().map(|t| t.image.rgb()));
             let extra: Vec<&[u8]> = included.iter().map(|t| &t[..]).chain(textures).collect();
             fingerprint(bytes, named.as_ref(), &extra)
         })

@@ -36,6 +36,14 @@ pub struct Material {
     /// perfect mirror and smooth glass (P3F's `roughness R`; 0 when absent and
     /// always in NFF).
     pub roughness: f32,
+    /// The ambient reflectance of AFF's `fm` (what the ambient light `am` shows of
+    /// the surface under AFF's rules); zero for `f` and in NFF and P3F, whose rules
+    /// reflect the ambient light by the diffuse colour.
+    pub ambient: Vec3,
+    /// The texture (an index into [`Scene::textures`]) whose texel at each hit
+    /// multiplies what the surface sends back (AFF's textured meshes); `None` for
+    /// a plain colour.
+    pub texture: Option<u32>,
 }
 
 impl Material {
@@ -51,6 +59,8 @@ impl Material {
         ior: 1.0,
         emission: Vec3::ZERO,
         roughness: 0.0,
+        ambient: Vec3::ZERO,
+        texture: None,
     };
 }
 
@@ -111,12 +121,14 @@ pub enum Dialect {
     P3f2019,
     /// P3F as of the 2024/25 course (`camera`, `mat`, `light`, `spp`, `accel`).
     P3f2025,
+    /// AFF, BART's animated NFF: a frame of it (docs/aff.md), shaded by its rules.
+    Aff,
 }
 
 impl Dialect {
     /// True for either P3F dialect.
     pub fn is_p3f(self) -> bool {
-        self != Dialect::Nff
+        matches!(self, Dialect::P3f2019 | Dialect::P3f2025)
     }
 
     /// The one name of the dialect, wherever it is shown (`info`, `--stats`, the
@@ -126,6 +138,7 @@ impl Dialect {
             Dialect::Nff => "nff",
             Dialect::P3f2019 => "p3f-2019",
             Dialect::P3f2025 => "p3f-2025",
+            Dialect::Aff => "aff",
         }
     }
 }
@@ -476,6 +489,14 @@ pub struct Scene {
     pub patch_vertices: Vec<Vec3>,
     /// Vertex normals of all patches, parallel to `patch_vertices`.
     pub patch_normals: Vec<Vec3>,
+    /// Texture coordinates `(u, v)` of all patches' vertices: empty, or parallel
+    /// to `patch_vertices` (AFF's textured triangles; zeros for the others).
+    pub patch_uvs: Vec<[f32; 2]>,
+    /// The images that textured materials sample ([`Material::texture`]): AFF's,
+    /// read with the scene and shared by every frame of it.
+    pub textures: Vec<std::sync::Arc<crate::image::Texture>>,
+    /// AFF's global ambient light (`am`); `None` elsewhere.
+    pub ambient_light: Option<Vec3>,
     /// Infinite planes.
     pub planes: Vec<Plane>,
     /// Boxes.
@@ -527,6 +548,8 @@ pub struct SceneInfo {
     pub shutter: [f32; 2],
     /// The integrator the file asks for (P3F `integrator`).
     pub integrator: Option<IntegratorKind>,
+    /// AFF's global ambient light (`am`).
+    pub ambient_light: Option<Vec3>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
     /// The number of primitives of each kind outside meshes ([`Scene::kind_counts`]).
@@ -623,6 +646,9 @@ impl Scene {
             patches,
             patch_vertices,
             patch_normals,
+            patch_uvs,
+            textures: _,
+            ambient_light: _,
             planes,
             boxes,
             meshes,
@@ -682,6 +708,14 @@ impl Scene {
                 t
             }));
         self.polygon_vertices.extend(polygon_vertices);
+        // Texture coordinates stay empty or parallel to the vertices: zeros for the
+        // side without them.
+        if !(self.patch_uvs.is_empty() && patch_uvs.is_empty()) {
+            self.patch_uvs.resize(self.patch_vertices.len(), [0.0; 2]);
+            self.patch_uvs.extend(patch_uvs);
+            self.patch_uvs
+                .resize(self.patch_vertices.len() + patch_vertices.len(), [0.0; 2]);
+        }
         self.patch_vertices.extend(patch_vertices);
         self.patch_normals.extend(patch_normals);
         self.mesh_vertices.extend(mesh_vertices);
@@ -701,6 +735,7 @@ impl Scene {
             accel: self.accel,
             shutter: self.shutter_interval(),
             integrator: self.integrator,
+            ambient_light: self.ambient_light,
             warnings: self.warnings.clone(),
             kind_counts: self.kind_counts().to_vec(),
             meshes: self.meshes.len(),

@@ -252,7 +252,11 @@ fn textures_are_found_beside_the_file_or_in_texture_files_and_checked() {
     std::fs::write(top.parent().unwrap().join("wall.ppm"), ppm(b"\n")).unwrap();
     let aff = load_path(&top).unwrap().aff.unwrap();
     assert_eq!(
-        (aff.textures.len(), aff.textures[0].width, aff.textures[0].rgb[0]),
+        (
+            aff.textures.len(),
+            aff.textures[0].image.width(),
+            aff.textures[0].image.rgb()[0]
+        ),
         (1, 2, 255)
     );
     assert!(aff.warnings.is_empty(), "{:?}", aff.warnings);
@@ -266,7 +270,7 @@ fn textures_are_found_beside_the_file_or_in_texture_files_and_checked() {
     std::fs::create_dir_all(&folder).unwrap();
     std::fs::write(folder.join("wall.ppm"), ppm(b"junk")).unwrap();
     let aff = load_path(&top).unwrap().aff.unwrap();
-    assert_eq!(aff.textures[0].height, 1);
+    assert_eq!(aff.textures[0].image.height(), 1);
     assert!(
         aff.warnings[0].message.contains("4 bytes after its image"),
         "{:?}",

@@ -89,6 +89,8 @@ class Scene:
         seed: Optional[int] = None,
         integrator: Optional[str] = None,
         denoise: Union[bool, str, None] = None,
+        frame: Optional[int] = None,
+        time: Optional[float] = None,
     ) -> npt.NDArray[np.float32]:
         """Renders into a new ``float32`` array of shape ``(H, W, 3)``, top row first:
         linear RGB, the values ``nffrt render -o X.pfm`` writes. An argument left
@@ -100,7 +102,10 @@ class Scene:
         one); ``integrator`` is ``"whitted"`` or ``"path"`` (default: the file's);
         ``denoise=True`` (or ``"fast"``, ``"balanced"``, ``"high"``) denoises the
         whole picture with Intel Open Image Denoise (``OSError`` without it:
-        ``pip install pyoidn``). Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
+        ``pip install pyoidn``). An AFF scene renders frame 0 unless ``frame`` (0 to
+        ``frames - 1``) or ``time`` asks for another, as ``nffrt render
+        --frame``/``--time`` does (``ValueError`` for a scene that does not move).
+        Releases the GIL; Ctrl-C raises ``KeyboardInterrupt``."""
     def image_size(self, width: Optional[int] = None, height: Optional[int] = None) -> Tuple[int, int]:
         """The ``(width, height)`` ``render`` makes with these arguments."""
     @property
@@ -114,7 +119,12 @@ class Scene:
         """The text ``parse`` was given (``None`` for a loaded file)."""
     @property
     def format(self) -> str:
-        """``"nff"``, ``"p3f-2019"`` or ``"p3f-2025"``."""
+        """``"nff"``, ``"p3f-2019"``, ``"p3f-2025"`` or ``"aff"``."""
+    @property
+    def frames(self) -> Optional[int]:
+        """An AFF scene's number of frames; ``None`` for a scene that does not move."""
+    def frame_time(self, n: int) -> float:
+        """The time of an AFF scene's frame ``n``."""
     @property
     def width(self) -> int: ...
     @property
@@ -138,13 +148,13 @@ class Scene:
         """A preview at most 256 pixels on a side, as PNG (Jupyter)."""
 
 def load(path: StrPath, format: Optional[str] = None) -> Scene:
-    """Reads and prepares a scene file (``format``: ``"nff"``, ``"p3f"``, or by the
+    """Reads and prepares a scene file (``format``: ``"nff"``, ``"p3f"``, ``"aff"`` or by the
     extension). Raises ``SceneError`` or ``OSError``."""
 
 def parse(
     text: Union[str, bytes], format: Optional[str] = None, path: Optional[StrPath] = None
 ) -> Scene:
-    """Parses and prepares scene text (``format``: ``"nff"``, ``"p3f"``, or by
+    """Parses and prepares scene text (``format``: ``"nff"``, ``"p3f"``, ``"aff"`` or by
     ``path``'s extension, else NFF); ``path`` names the file the text is (in errors,
     and for the folder of its skybox). Raises ``SceneError``."""
 

@@ -1,5 +1,6 @@
 """Rendering on a Dask distributed cluster: one task per tile, merged into the
-array a local render gives, byte for byte.
+array a local render gives, byte for byte; or, for an animated (AFF) scene, one
+task per frame (``render_frames``).
 
 >>> from distributed import Client
 >>> import nffrt, nffrt.dask
@@ -14,7 +15,8 @@ from text sends that text; one loaded from a file, or a path, sends the file's
 bytes as they are when ``render`` is called) and sent to the workers once, so the
 workers need no copy of the scene file. Only a P3F skybox is read by the workers
 themselves, from the scene file's folder at the same absolute path (a shared
-filesystem, as for the Slurm recipe in docs/command-line.md). Each worker process
+filesystem, as for the Slurm recipe in docs/command-line.md), and so are an AFF
+scene's includes and textures. Each worker process
 parses a scene once and keeps it for the next tiles of the same scene. Each task
 renders one band of rows on one thread unless ``threads`` says otherwise: the
 workers' threads are the parallelism.
@@ -134,3 +136,47 @@ def render(
     futures = [client.submit(_render_tile, key, shared, tuple(r), opts, pure=False) for r in regions]
     arrays = client.gather(futures)
     return merge(zip(regions, arrays))
+
+
+def _frame_count(key: tuple, data: bytes) -> Optional[int]:
+    """Task: the scene's number of frames (``None``: it does not move)."""
+    return _prepared(key, data).frames
+
+
+def _render_frame(key: tuple, data: bytes, frame: int, options: dict) -> np.ndarray:
+    """Task: one frame of an animation."""
+    return _prepared(key, data).render(frame=frame, **options)
+
+
+def render_frames(
+    scene: SceneSource,
+    client: Any,
+    frames: Optional[Any] = None,
+    format: Optional[str] = None,
+    **render_options: Any,
+) -> list:
+    """Renders frames of an animated (AFF) ``scene`` on the cluster behind
+    ``client``, one task per frame: a list of the ``float32`` arrays
+    ``Scene.render(frame=n, **render_options)`` gives, byte for byte, in the order
+    of ``frames`` (frame numbers; default: every frame of the animation).
+
+    ``render_options`` are those of ``Scene.render`` but ``frame`` and ``time``;
+    ``threads`` (per task) defaults to 1. ``scene`` and ``format`` are as for
+    ``render``; the workers read an AFF scene's includes and textures from its
+    folder at the same absolute path. A scene that does not move raises
+    ``ValueError``.
+    """
+    for name in ("frame", "time"):
+        if name in render_options:
+            raise ValueError(f"nffrt.dask.render_frames renders the frames it is given: no {name}")
+    options = {"threads": 1, **render_options}
+    data, format, path = _source(scene, format)
+    key = (hashlib.sha256(data).hexdigest(), format, path)
+    shared = client.scatter(data, broadcast=True, hash=False)
+    if frames is None:
+        count = client.submit(_frame_count, key, shared, pure=False).result()
+        if count is None:
+            raise ValueError("nffrt.dask.render_frames: the scene does not move (not an AFF scene)")
+        frames = range(count)
+    futures = [client.submit(_render_frame, key, shared, int(n), options, pure=False) for n in frames]
+    return client.gather(futures)

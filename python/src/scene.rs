@@ -4,11 +4,12 @@
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+use nffrt::aff::AffScene;
 use nffrt::image::Region;
-use nffrt::load::{load_cancellable, LoadError, LoadOptions, Source};
+use nffrt::load::{load_cancellable, Assets, LoadError, LoadOptions, Source};
 use nffrt::math::Vec3;
 use nffrt::nff::{parse_format_cancellable, Format, Limits};
 use nffrt::options::{image_size, RenderLimits, RenderOptions, RenderRequest};
@@ -37,6 +38,9 @@ pub struct PyScene {
     /// what `nffrt.dask.render` sends to the workers.
     text: Option<Py<PyAny>>,
     format: Format,
+    /// An AFF scene's animation, which `render(frame=..)` flattens at other times
+    /// (`prepared` is its frame 0), with the files it names.
+    animation: Option<(Arc<AffScene>, Assets)>,
     last_stats: Mutex<Option<(Stats, f64)>>,
 }
 
@@ -46,7 +50,10 @@ pub fn parse_format(format: Option<&str>) -> PyResult<Option<Format>> {
         None => Ok(None),
         Some("nff") => Ok(Some(Format::Nff)),
         Some("p3f") => Ok(Some(Format::P3f)),
-        Some(other) => Err(value_error(format!("format {other:?}: use \"nff\" or \"p3f\""))),
+        Some("aff") => Ok(Some(Format::Aff)),
+        Some(other) => Err(value_error(format!(
+            "format {other:?}: use \"nff\", \"p3f\" or \"aff\""
+        ))),
     }
 }
 
@@ -73,6 +80,9 @@ enum LoadFailure {
 /// without its format fails at its first P3F keyword, which alone does not say so.
 const P3F_HINT: &str = "the scene reads as P3F: pass format=\"p3f\"";
 
+/// A scene prepared for rendering, and an AFF scene's animation.
+type Prepared = (RenderScene, Option<(Arc<AffScene>, Assets)>);
+
 /// Loads `bytes` in `format` through the library's one load path, named `name`, the
 /// files they name found in `dir`, and prepares the scene; a failed NFF parse comes
 /// with [`P3F_HINT`] when the bytes parse as P3F.
@@ -82,7 +92,7 @@ fn load_prepared(
     name: &str,
     dir: Option<&Path>,
     cancel: &AtomicBool,
-) -> Result<RenderScene, Unloaded> {
+) -> Result<Prepared, Unloaded> {
     let opts = LoadOptions {
         format: Some(format),
         ..LoadOptions::default()
@@ -97,7 +107,7 @@ fn load_prepared(
                 error: e.into(),
                 hint: None,
             })?;
-            Ok(scene)
+            Ok((scene, loaded.aff.map(|aff| (aff, loaded.assets))))
         }
         Err(e) => {
             let reads_as_p3f = matches!(e, LoadError::Parse { .. })
@@ -182,13 +192,40 @@ fn vec3(v: Vec3) -> (f64, f64, f64) {
 }
 
 impl PyScene {
-    fn new(prepared: RenderScene, path: Option<PathBuf>, text: Option<Py<PyAny>>, format: Format) -> PyScene {
+    fn new(prepared: Prepared, path: Option<PathBuf>, text: Option<Py<PyAny>>, format: Format) -> PyScene {
+        let (prepared, animation) = prepared;
         PyScene {
             prepared,
             path,
             text,
             format,
+            animation,
             last_stats: Mutex::new(None),
+        }
+    }
+
+    /// The time `frame` or `time` asks for (`None`: frame 0, the prepared scene); a
+    /// `ValueError` for a scene that does not move or a frame past its animation.
+    fn time_asked(&self, frame: Option<u32>, time: Option<f64>) -> PyResult<Option<f64>> {
+        if frame.is_none() && time.is_none() {
+            return Ok(None);
+        }
+        let Some((aff, _)) = &self.animation else {
+            return Err(value_error(format!(
+                "frame and time are for AFF scenes; this one reads as {} and does not move",
+                self.format()
+            )));
+        };
+        match (frame, time) {
+            (Some(_), Some(_)) => Err(value_error("give frame or time, not both")),
+            (Some(n), None) if n >= aff.frames() => Err(value_error(format!(
+                "frame {n}: the scene has {} frames (0 to {})",
+                aff.frames(),
+                aff.frames() - 1
+            ))),
+            (Some(n), None) => Ok(Some(aff.time_of_frame(n))),
+            (None, Some(t)) if !t.is_finite() => Err(value_error(format!("time {t}: not a finite number"))),
+            (None, t) => Ok(t),
         }
     }
 
@@ -212,6 +249,7 @@ impl PyScene {
         opts: &RenderOptions,
         region: Option<(u32, u32, u32, u32)>,
         threads: Option<usize>,
+        at: Option<f64>,
     ) -> PyResult<nffrt::image::Image> {
         let region = match region {
             Some((x0, y0, x1, y1)) => Region { x0, y0, x1, y1 },
@@ -220,16 +258,20 @@ impl PyScene {
         let pool = pool(threads)?;
         let t0 = Instant::now();
         let rendered = without_gil(py, pool.as_ref(), |cancel| {
-            render_region(
-                &self.prepared,
-                self.prepared.view(),
-                opts,
-                &region,
-                &RenderLimits::default(),
-                cancel,
-            )
+            // Another frame: flattened at its time and prepared for this render.
+            let frame = match (at, &self.animation) {
+                (Some(t), Some((aff, assets))) => Some(aff.flatten(t).map(|s| prepare(s, assets))),
+                _ => None,
+            };
+            let scene = match &frame {
+                Some(Ok(prepared)) => prepared,
+                Some(Err(e)) => return Err(value_error(format!("time {}: {e}", at.unwrap_or_default()))),
+                None => &self.prepared,
+            };
+            let limits = RenderLimits::default();
+            render_region(scene, scene.view(), opts, &region, &limits, cancel).map_err(render_error)
         })?;
-        let (image, stats) = rendered.map_err(render_error)?;
+        let (image, stats) = rendered?;
         if let Ok(mut last) = self.last_stats.lock() {
             *last = Some((stats, t0.elapsed().as_secs_f64()));
         }
@@ -255,9 +297,12 @@ impl PyScene {
     /// (default: the file's `integrator`, else Whitted's). `denoise=True` (or a
     /// quality, `"fast"`, `"balanced"`, `"high"`: True's) denoises the whole picture
     /// with Intel Open Image Denoise as `nffrt render --denoise` does (`OSError` when
-    /// the library is not installed: `pip install pyoidn`). The GIL is released while rendering;
-    /// Ctrl-C stops the render with `KeyboardInterrupt`.
-    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None, denoise=None))]
+    /// the library is not installed: `pip install pyoidn`). An AFF scene renders its
+    /// frame 0 unless `frame` (0 to `frames - 1`) or `time` asks for another: the
+    /// scene flattened at that time, as `nffrt render --frame`/`--time` renders it
+    /// (not denoised yet). The GIL is released while rendering; Ctrl-C stops the
+    /// render with `KeyboardInterrupt`.
+    #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None, denoise=None, frame=None, time=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -275,12 +320,20 @@ impl PyScene {
         seed: Option<u32>,
         integrator: Option<&str>,
         denoise: Option<&Bound<'py, PyAny>>,
+        frame: Option<u32>,
+        time: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let quality = crate::denoise::quality(denoise)?;
         if quality.is_some() && region.is_some() {
             return Err(value_error(
                 "denoise works on whole pictures: not with region (a tile's denoised edges would not meet its \
                  neighbours')",
+            ));
+        }
+        let at = self.time_asked(frame, time)?;
+        if quality.is_some() && at.is_some() {
+            return Err(value_error(
+                "denoise works on an AFF scene's frame 0 only, so far: not with frame or time",
             ));
         }
         let integrator = integrator
@@ -300,7 +353,7 @@ impl PyScene {
             integrator,
             ..RenderRequest::default()
         })?;
-        let mut image = self.render_image(py, &opts, region, threads)?;
+        let mut image = self.render_image(py, &opts, region, threads, at)?;
         if let Some(quality) = quality {
             image = crate::denoise::denoised(py, &self.prepared, &opts, image, quality)?;
         }
@@ -358,7 +411,8 @@ impl PyScene {
         self.text.as_ref().map(|t| t.clone_ref(py))
     }
 
-    /// The language: `"nff"`, `"p3f-2019"` or `"p3f-2025"` (the P3F course's dialects).
+    /// The language: `"nff"`, `"p3f-2019"` or `"p3f-2025"` (the P3F course's
+    /// dialects), or `"aff"`.
     #[getter]
     fn format(&self) -> &'static str {
         match (self.format, self.info().dialect) {
@@ -366,6 +420,18 @@ impl PyScene {
             (Format::P3f, Dialect::Nff) => "p3f",
             (_, dialect) => dialect.name(),
         }
+    }
+
+    /// An AFF scene's number of frames (`a START END FRAMES`; 1 without `a`), or
+    /// `None` for a scene that does not move (NFF, P3F).
+    #[getter]
+    fn frames(&self) -> Option<u32> {
+        self.animation.as_ref().map(|(aff, _)| aff.frames())
+    }
+
+    /// The time of frame `n` of an AFF scene: `START + n (END - START) / FRAMES`.
+    fn frame_time(&self, n: u32) -> PyResult<f64> {
+        self.time_asked(Some(n), None).map(Option::unwrap_or_default)
     }
 
     /// The file's image width in pixels.
@@ -474,7 +540,7 @@ impl PyScene {
             spp: Some(1),
             ..RenderRequest::default()
         })?;
-        let image = self.render_image(py, &opts, None, None)?;
+        let image = self.render_image(py, &opts, None, None, None)?;
         let png = encode(&image, ImageFormat::Png).map_err(value_error)?;
         Ok(PyBytes::new(py, &png))
     }

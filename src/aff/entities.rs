@@ -65,10 +65,10 @@ impl FileParser<'_, '_, '_> {
     /// `fm ar ag ab  dr dg db  sr sg sb  shine T ior`: ambient, diffuse and specular
     /// colours, Phong exponent, transmittance and index of refraction.
     ///
-    /// Until a later part shades it as the original does (the operands are kept in
-    /// [`super::AffScene::fills`]), nffrt renders it with NFF's rules as
-    /// `f dr dg db 1 Ks 4*shine T ior` with `Ks` the largest specular component and
-    /// the highlight tinted by the specular colour.
+    /// Kept as the material `f dr dg db 1 Ks 4*shine T ior` with `Ks` the largest
+    /// specular component, the specular colour over `Ks` as its tint (so `Ks` times
+    /// the tint is the specular colour) and the ambient colour as its ambient
+    /// reflectance, which AFF's rules shade as the original does (`render/shade.rs`).
     pub(super) fn fill_material(&mut self, _kw: &Token) -> Read {
         let fill = FillMaterial {
             ambient: self.p.vec3("'fm' ambient r g b")?,
@@ -87,6 +87,7 @@ impl FileParser<'_, '_, '_> {
             shine: 4.0 * fill.shine,
             t: fill.t,
             ior: fill.ior,
+            ambient: fill.ambient,
             ..Material::DEFAULT
         };
         self.sync_fills();

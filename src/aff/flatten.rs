@@ -3,8 +3,10 @@
 //! meshes with normals and animated triangles as triangular patches (normals by
 //! the inverse transpose), meshes without as [`Scene::meshes`], polygons, patches,
 //! spheres and cones as themselves (a sphere or cone only under a transform that
-//! keeps it one: a similarity). Textures are not applied yet: a textured surface
-//! shows its material's colour.
+//! keeps it one: a similarity). A textured mesh's triangles become patches with
+//! texture coordinates ([`Scene::patch_uvs`]; zero normals where the mesh has none,
+//! which shade flat) under a copy of their material that names the texture
+//! ([`Material::texture`]); the textures themselves are shared, not copied.
 
 use super::error::AffError;
 use super::mesh::MeshGeometry;
@@ -12,7 +14,9 @@ use super::scene::{AffScene, Location, Object, Shape};
 use super::transform::Affine;
 use crate::math::Vec3;
 use crate::nff::{is_degenerate, ParseError, ParseErrorKind};
-use crate::scene::{Cone, Dialect, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning};
+use crate::scene::{
+    Cone, Dialect, Material, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning,
+};
 
 impl AffScene {
     /// The scene at time `t` (see [`AffScene::time_of_frame`]) in world space. An
@@ -23,13 +27,16 @@ impl AffScene {
         let world = self.node_transforms(t);
         let shown = self.node_visibility(t);
         let mut out = Scene {
-            dialect: Dialect::Nff,
+            dialect: Dialect::Aff,
             view: self.checked_camera(t)?,
             background: self.nff.background,
             materials: self.nff.materials.clone(),
+            textures: self.textures.iter().map(|t| t.image.clone()).collect(),
+            ambient_light: Some(self.ambient),
             warnings: self.plain_warnings(),
             ..Scene::default()
         };
+        let mut textured = TexturedMaterials::default();
         for (i, light) in self.nff.lights.iter().enumerate() {
             let mut light = *light;
             light.position = self.light_position_at(i, t, &world);
@@ -38,7 +45,7 @@ impl AffScene {
         for object in &self.objects {
             let node = object.node as usize;
             if shown[node] {
-                self.place(object, &world[node], &mut out)?;
+                self.place(object, &world[node], &mut textured, &mut out)?;
             }
         }
         for tri in &self.animated_triangles {
@@ -49,24 +56,36 @@ impl AffScene {
             let (vertices, normals) = tri.at(t);
             let m = &world[node];
             let before = lengths(&out);
-            push_patch(
-                &mut out,
-                vertices.map(|p| m.point(p)),
-                normals.map(|n| m.normal(n)),
-                tri.material,
-                tri.at.line,
-            );
+            let corners = Corners {
+                points: vertices.map(|p| m.point(p)),
+                normals: normals.map(|n| m.normal(n)),
+                uvs: [[0.0; 2]; 3],
+            };
+            push_patch(&mut out, corners, tri.material, tri.at.line);
             self.check_finite(&out, before, tri.at)?;
         }
         Ok(out)
     }
 
-    /// Adds `object` under `m` to `out`.
-    fn place(&self, object: &Object, m: &Affine, out: &mut Scene) -> Result<(), AffError> {
-        let (material, line) = (object.material, object.at.line);
+    /// Adds `object` under `m` to `out` (a textured mesh under its material's
+    /// textured copy, made in `textured` when first needed).
+    fn place(
+        &self,
+        object: &Object,
+        m: &Affine,
+        textured: &mut TexturedMaterials,
+        out: &mut Scene,
+    ) -> Result<(), AffError> {
+        let (mut material, line) = (object.material, object.at.line);
         let before = lengths(out);
         match object.shape {
-            Shape::Mesh(g) => self.place_mesh(&self.meshes.geometries[g as usize], m, material, line, out),
+            Shape::Mesh(g) => {
+                let g = &self.meshes.geometries[g as usize];
+                if let (Some(texture), true) = (g.texture, g.uvs.count > 0) {
+                    material = textured.of(material, texture, &mut out.materials);
+                }
+                self.place_mesh(g, m, material, line, out)
+            }
             Shape::Polygon(i) => {
                 let p = &self.nff.polygons[i as usize];
                 let points: Vec<Vec3> = self.nff.polygon_points(p).iter().map(|&v| m.point(v)).collect();
@@ -87,6 +106,9 @@ impl AffScene {
                         first: out.patch_vertices.len() as u32,
                         ..*p
                     });
+                    if !out.textures.is_empty() {
+                        out.patch_uvs.resize(out.patch_uvs.len() + points.len(), [0.0; 2]);
+                    }
                     out.patch_vertices.extend(points);
                     out.patch_normals.extend(normals.iter().map(|&n| m.normal(n)));
                 }
@@ -121,8 +143,9 @@ impl AffScene {
         self.check_finite(out, before, object.at)
     }
 
-    /// Adds one mesh's triangles under `m`: as patches if it has normals, else as a
-    /// mesh. Triangles left without area (under a zero scale) are left out.
+    /// Adds one mesh's triangles under `m`: as patches if it has normals or is
+    /// textured (with its texture coordinates), else as a mesh. Triangles left
+    /// without area (under a zero scale) are left out.
     fn place_mesh(&self, g: &MeshGeometry, m: &Affine, material: u32, line: u32, out: &mut Scene) {
         let pool = &self.meshes;
         let points: Vec<Vec3> = pool.positions[g.positions.range()]
@@ -130,20 +153,27 @@ impl AffScene {
             .map(|&p| m.point(p))
             .collect();
         let triangles = &pool.triangles[g.triangles.range()];
-        if g.normals.count > 0 {
+        let textured = g.texture.is_some() && g.uvs.count > 0;
+        if g.normals.count > 0 || textured {
             let normals: Vec<Vec3> = pool.normals[g.normals.range()]
                 .iter()
                 .map(|&n| m.normal(n))
                 .collect();
+            let uvs = &pool.uvs[g.uvs.range()];
             for t in triangles {
-                let corners = t.vertices.map(|i| points[i as usize]);
-                push_patch(
-                    out,
-                    corners,
-                    t.normals.map(|i| normals[i as usize]),
-                    material,
-                    line,
-                );
+                let corners = Corners {
+                    points: t.vertices.map(|i| points[i as usize]),
+                    // No normals: zero ones, which the triangle shades flat.
+                    normals: match g.normals.count {
+                        0 => [Vec3::ZERO; 3],
+                        _ => t.normals.map(|i| normals[i as usize]),
+                    },
+                    uvs: match textured {
+                        true => t.uvs.map(|i| uvs[i as usize]),
+                        false => [[0.0; 2]; 3],
+                    },
+                };
+                push_patch(out, corners, material, line);
             }
             return;
         }
@@ -268,9 +298,17 @@ fn lengths(s: &Scene) -> [usize; 6] {
     ]
 }
 
-/// Adds a triangular patch unless it has no area.
-fn push_patch(out: &mut Scene, corners: [Vec3; 3], normals: [Vec3; 3], material: u32, line: u32) {
-    if !has_area(&corners) {
+/// A triangle's corners: points, normals and texture coordinates.
+struct Corners {
+    points: [Vec3; 3],
+    normals: [Vec3; 3],
+    uvs: [[f32; 2]; 3],
+}
+
+/// Adds a triangular patch unless it has no area; its texture coordinates too if
+/// the scene has textures (then every patch has them).
+fn push_patch(out: &mut Scene, corners: Corners, material: u32, line: u32) {
+    if !has_area(&corners.points) {
         return;
     }
     out.patches.push(Patch {
@@ -279,8 +317,30 @@ fn push_patch(out: &mut Scene, corners: [Vec3; 3], normals: [Vec3; 3], material:
         material,
         line,
     });
-    out.patch_vertices.extend(corners);
-    out.patch_normals.extend(normals);
+    out.patch_vertices.extend(corners.points);
+    out.patch_normals.extend(corners.normals);
+    if !out.textures.is_empty() {
+        out.patch_uvs.extend(corners.uvs);
+    }
+}
+
+/// The textured copies of materials made for a frame: `(material, texture)` to the
+/// copy's index.
+#[derive(Default)]
+struct TexturedMaterials(std::collections::HashMap<(u32, u32), u32>);
+
+impl TexturedMaterials {
+    /// The index of `material` textured with `texture`, added to `materials` the
+    /// first time.
+    fn of(&mut self, material: u32, texture: u32, materials: &mut Vec<Material>) -> u32 {
+        *self.0.entry((material, texture)).or_insert_with(|| {
+            materials.push(Material {
+                texture: Some(texture),
+                ..materials[material as usize]
+            });
+            (materials.len() - 1) as u32
+        })
+    }
 }
 
 /// True unless the points lie (nearly) on a line or at one point: NFF's test of a

@@ -192,12 +192,8 @@ pub struct Texture {
     pub name: String,
     /// The file read.
     pub path: PathBuf,
-    /// Width in texels.
-    pub width: u32,
-    /// Height in texels.
-    pub height: u32,
-    /// `width * height` RGB triples, top row first.
-    pub rgb: Vec<u8>,
+    /// The image, shared by every frame flattened from the scene.
+    pub image: std::sync::Arc<crate::image::Texture>,
     /// Where the scene first names it.
     pub at: Location,
 }

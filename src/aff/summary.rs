@@ -126,7 +126,7 @@ impl AffScene {
             texels: self
                 .textures
                 .iter()
-                .map(|t| t.width as u64 * t.height as u64)
+                .map(|t| t.image.width() as u64 * t.image.height() as u64)
                 .sum(),
             instanced_triangles: self.meshes.triangles.len() + fans + animated,
             flattened_triangles: mesh_triangles + fans + animated,

@@ -82,12 +82,12 @@ fn read_texture(name: &str, path: &PathBuf, at: Loc) -> Result<(Texture, usize),
         1 if bytes.last().is_some_and(u8::is_ascii_whitespace) => 0,
         n => n,
     };
+    let image = crate::image::Texture::new(ppm.width, ppm.height, ppm.rgb)
+        .ok_or_else(|| invalid(at, format!("texture {name} ({shown}) has no texels")))?;
     let texture = Texture {
         name: name.to_string(),
         path: path.clone(),
-        width: ppm.width,
-        height: ppm.height,
-        rgb: ppm.rgb,
+        image: std::sync::Arc::new(image),
         at: Location::default(),
     };
     Ok((texture, extra))

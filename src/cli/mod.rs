@@ -13,9 +13,11 @@ macro_rules! outln {
     }};
 }
 
+mod animation;
 mod bench;
 mod diff;
 mod finish;
+mod frames;
 mod gen;
 mod image_out;
 mod info;

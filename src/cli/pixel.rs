@@ -4,6 +4,7 @@
 
 use std::io::Write;
 
+use super::frames;
 use super::load::{load_scene, print_warnings, Need};
 use super::render::{prepare_options, render_error, resolve, RenderArgs};
 use super::CliError;
@@ -13,8 +14,12 @@ use nffrt::render::debug::trace_pixel;
 /// Runs `nffrt render SCENE --pixel X,Y [--width/--height/--max-depth/--spp/--spd]`
 /// on pixel `(x, y)`.
 pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
-    let loaded = load_scene(&args.scene, &args.limits.scene, Need::Render)?;
+    let mut loaded = load_scene(&args.scene, &args.limits.scene, Need::Render)?;
     print_warnings(&loaded, 20);
+    // `--frame` or `--time` (`--frames` asks for pictures, not a pixel).
+    if let Some(jobs) = frames::plan(&args.frames, &loaded, &args.scene, None)? {
+        loaded.scene = frames::flatten(&loaded, &jobs[0])?;
+    }
     let (opts, _) = resolve(args, &loaded.scene.info())?;
     if x >= opts.width || y >= opts.height {
         return Err(CliError::usage(format!(

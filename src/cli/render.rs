@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::finish::Finish;
+use super::frames::{self, FrameArgs};
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::{refused, RenderLimitArgs};
 use super::load::{load_scene, print_warnings, Need};
@@ -14,7 +15,7 @@ use super::output::{cannot_write, refuse_overwriting, write_stdout, AtomicOutput
 use super::progress::{Progress, ProgressMode};
 use super::stats::{self, StatsReport};
 use super::values::{self, whole_number};
-use super::{interrupt, pixel, CliError};
+use super::{animation, interrupt, pixel, CliError};
 use nffrt::denoise::Quality;
 use nffrt::fingerprint::{options_fingerprint, options_text};
 use nffrt::image::tiles::{self, TileFingerprint};
@@ -153,6 +154,9 @@ pub struct RenderArgs {
     /// No progress bar and no closing summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// The frames of an animated (AFF) scene.
+    #[command(flatten)]
+    pub frames: FrameArgs,
     /// Resource limits (see "Limits" in docs/command-line.md).
     #[command(flatten)]
     pub limits: RenderLimitArgs,
@@ -185,6 +189,16 @@ fn asked_encoding(
             out_path.display()
         ))),
         _ => Ok(asked),
+    }
+}
+
+/// The encoding a picture in `format` is written with, `resolved` for the scene:
+/// float pictures hold the linear values, whatever the 8-bit default.
+pub fn written_encoding(format: ImageFormat, resolved: Encoding) -> Encoding {
+    if format.is_8bit() {
+        resolved
+    } else {
+        Encoding::Linear
     }
 }
 
@@ -315,17 +329,23 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         Need::Render
     };
     let t0 = Instant::now();
-    let loaded = pool.install(|| load_scene(&args.scene, &args.limits.scene, need))?;
+    let mut loaded = pool.install(|| load_scene(&args.scene, &args.limits.scene, need))?;
     let load_s = t0.elapsed().as_secs_f64();
     print_warnings(&loaded, 20);
+    let mut out_path = out_path;
+    match frames::plan(&args.frames, &loaded, &args.scene, args.output.as_deref())?.as_deref() {
+        None => {}
+        Some([one]) => {
+            loaded.scene = frames::flatten(&loaded, one)?;
+            // A tile records the time it shows: tiles of two frames never merge.
+            loaded.fingerprint = loaded.fingerprint.map(|f| frames::fingerprint_at(f, one.time));
+            out_path = one.output.clone();
+        }
+        Some(several) => return animation::run(&args, &pool, &loaded, several),
+    }
     let info = loaded.scene.info();
     let (opts, encoding) = resolve(&args, &info)?;
-    // Float pictures hold the linear values, whatever the 8-bit default.
-    let encoding = if format.is_8bit() {
-        encoding
-    } else {
-        Encoding::Linear
-    };
+    let encoding = written_encoding(format, encoding);
     let full = Region::full(opts.width, opts.height);
     let region = args.region.unwrap_or(full);
     let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
@@ -445,7 +465,7 @@ fn tile_text(region: &Region, opts: &RenderOptions, scene: u64) -> [(&'static st
     ]
 }
 
-fn progress_mode(args: &RenderArgs) -> ProgressMode {
+pub fn progress_mode(args: &RenderArgs) -> ProgressMode {
     match (args.quiet, args.progress) {
         (true, _) => ProgressMode::Off,
         (false, true) => ProgressMode::Lines,

@@ -13,7 +13,7 @@ use nffrt::image::Region;
 use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::RenderScene;
 use nffrt::render::{Camera, Stage, StageStats, Stats};
-use nffrt::scene::{Accel, SceneInfo};
+use nffrt::scene::{Accel, Dialect, SceneInfo};
 use nffrt::words::shortest_f64;
 
 /// The settings of a render, in report order: `(JSON key, value)`; the text report
@@ -68,7 +68,11 @@ pub fn settings(
         (_, true, None) if spp > 1 => "one per sample, stratified".to_string(),
         (_, true, None) => "the lights' grids".to_string(),
     };
-    let shading = if scene.dialect.is_p3f() { "p3f" } else { "nff" };
+    let shading = match scene.dialect {
+        Dialect::Nff => "nff",
+        Dialect::Aff => "aff",
+        Dialect::P3f2019 | Dialect::P3f2025 => "p3f",
+    };
     Settings(vec![
         ("width", json!(opts.width)),
         ("height", json!(opts.height)),

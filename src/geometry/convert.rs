@@ -105,8 +105,15 @@ pub fn build_geometry_for_shutter(scene: &Scene, shutter: [f32; 2]) -> Geometry 
 
     for p in &scene.patches {
         let (pts, normals) = scene.patch_points(p);
+        let range = p.first as usize..(p.first + p.count) as usize;
+        let uvs = scene.patch_uvs.get(range).unwrap_or_default();
         for (a, b, c) in fan(pts) {
             let index = push_normals(data, [normals[a], normals[b], normals[c]]);
+            if index != Triangle::FLAT && !uvs.is_empty() {
+                // Parallel to the normals from the first textured patch on.
+                data.patch_uvs.resize(index as usize, [0.0; 2]);
+                data.patch_uvs.extend([uvs[a], uvs[b], uvs[c]]);
+            }
             let tri = Triangle::new(pts[a], pts[b], pts[c], index);
             push(Shape::Triangle(tri), p.material, p.line, SourceKind::Patch);
         }

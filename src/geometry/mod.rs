@@ -72,6 +72,9 @@ pub struct GeometryData {
     pub polygon_points_2d: Vec<[f32; 2]>,
     /// Vertex normals of patch triangles, three consecutive entries per triangle.
     pub patch_normals: Vec<Vec3>,
+    /// Texture coordinates of patch triangles' vertices: empty (a scene without
+    /// textures), or parallel to `patch_normals`.
+    pub patch_uvs: Vec<[f32; 2]>,
 }
 
 /// The shape of one render-time primitive.
@@ -195,6 +198,17 @@ impl Primitive {
         match &self.shape {
             Shape::Box(b) => b.origin_offset(s.point, s.normal, error),
             _ => s.normal * error,
+        }
+    }
+
+    /// The texture coordinates at a hit returned by [`Primitive::intersect`]:
+    /// interpolated on a patch triangle that has them, else `None`. Asked only of
+    /// hits on a textured material.
+    #[inline]
+    pub fn texcoords(&self, hit: &Hit, data: &GeometryData) -> Option<[f32; 2]> {
+        match &self.shape {
+            Shape::Triangle(s) => s.texcoords(hit, data),
+            _ => None,
         }
     }
 

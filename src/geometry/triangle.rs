@@ -106,6 +106,18 @@ impl Triangle {
         }
     }
 
+    /// The texture coordinates at `hit`: its barycentric mix of the vertices'
+    /// ([`GeometryData::patch_uvs`]), if the triangle has vertex data and the scene
+    /// texture coordinates.
+    #[inline]
+    pub fn texcoords(&self, hit: &Hit, data: &GeometryData) -> Option<[f32; 2]> {
+        let i = self.normals as usize;
+        let uvs = data.patch_uvs.get(i..i.checked_add(3)?)?;
+        let w = 1.0 - hit.u - hit.v;
+        let mix = |k: usize| uvs[0][k] * w + uvs[1][k] * hit.u + uvs[2][k] * hit.v;
+        Some([mix(0), mix(1)])
+    }
+
     /// The interpolated vertex normal at barycentrics `(u, v)`, unit length and on the
     /// side of `geometric`; `geometric` itself for flat triangles and whenever the
     /// vertex normals interpolate to nothing usable (zero, NaN, missing).

@@ -1,5 +1,6 @@
 //! Images: the linear floating-point framebuffer, its encoders and decoders, the
-//! tiles of a split render (and the bands to split it in), and the skybox cube map.
+//! tiles of a split render (and the bands to split it in), the skybox cube map, and
+//! the textures AFF's surfaces sample.
 //!
 //! Colour mapping (one documented default): each linear channel is clamped to [0, 1],
 //! multiplied by 255 and rounded to the nearest integer. No gamma curve is applied:
@@ -17,6 +18,7 @@ mod png;
 mod ppm;
 pub mod region;
 pub mod skybox;
+mod texture;
 pub mod tiles;
 
 pub use self::exr::{decode_exr, decode_exr_channels, encode_exr, encode_exr_layers};
@@ -27,3 +29,4 @@ pub use framebuffer::{quantize, quantize_gamma22, quantize_srgb, Encoding, Image
 pub use pfm::{decode_pfm, encode_pfm};
 pub use ppm::{decode_ppm, decode_ppm_raster, encode_ppm, encode_ppm_rgb8, PpmRaster};
 pub use region::Region;
+pub use texture::Texture;

@@ -114,7 +114,7 @@ pub fn view_block(view: &View, dialect: Dialect) -> String {
     let v = view;
     let (head, eye) = match dialect {
         Dialect::P3f2025 => ("camera", "eye"),
-        Dialect::Nff | Dialect::P3f2019 => ("v", "from"),
+        Dialect::Nff | Dialect::P3f2019 | Dialect::Aff => ("v", "from"),
     };
     let mut out = format!(
         "{head}\n{eye} {}\nat {}\nup {}\nangle {}\nhither {}\nresolution {} {}\n",

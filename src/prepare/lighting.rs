@@ -2,7 +2,8 @@
 //! step: which shading rules apply ([`Model`], by the scene's dialect), the ambient
 //! intensity, and every light with its intensity (the rules of `render/shade.rs`:
 //! NFF's uncoloured lights and ambient term `sqrt(n) / (2n)` for n lights, P3F's
-//! lights their own colours and no ambient term). Plain data: the points a hit
+//! lights their own colours and no ambient term, AFF's lights their colours (white
+//! without one) and the ambient light its `am`). Plain data: the points a hit
 //! samples on a light are the renderer's (`render/light.rs`).
 
 use crate::math::Vec3;
@@ -15,6 +16,8 @@ pub enum Model {
     Spd,
     /// P3F: the course's, with Schlick-Fresnel dielectrics.
     P3f,
+    /// AFF: BART's original renderer's, with `fm`'s colours and textures.
+    Aff,
 }
 
 /// The model's light intensities and ambient term for one scene.
@@ -31,6 +34,13 @@ pub struct Lighting {
 impl Lighting {
     /// Resolves the scene's model and intensities (see the module docs).
     pub fn new(scene: &SceneInfo) -> Lighting {
+        if scene.dialect == Dialect::Aff {
+            return Lighting {
+                model: Model::Aff,
+                ambient: scene.ambient_light.unwrap_or(Vec3::ONE),
+                lights: LightSource::of(&scene.lights, Vec3::ONE),
+            };
+        }
         if scene.dialect != Dialect::Nff {
             return Lighting {
                 model: Model::P3f,

@@ -28,10 +28,13 @@ pub use emitters::Emitters;
 pub use lighting::{LightQuad, LightSource, Lighting, Model};
 
 use crate::accel::{Aggregate, Bvh};
-use crate::geometry::{build_geometry_for_shutter, Primitive};
+use crate::geometry::{build_geometry_for_shutter, Hit, Primitive};
 use crate::image::skybox::FaceError;
+use crate::image::Texture;
 use crate::load::Assets;
+use crate::math::Vec3;
 use crate::scene::{Accel, Material, Scene, SceneInfo, View};
+use std::sync::Arc;
 
 /// A scene ready to render (see the module docs).
 pub struct RenderScene {
@@ -44,6 +47,8 @@ pub struct RenderScene {
     motion: bool,
     /// The lights and emissive primitives a path tracer samples.
     emitters: Emitters,
+    /// The images textured materials sample ([`Material::texture`]).
+    textures: Vec<Arc<Texture>>,
 }
 
 /// What a caller may choose of the render-time scene, replacing the file's settings.
@@ -68,7 +73,11 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
     let info = scene.info();
     let shutter = opts.shutter.unwrap_or(info.shutter);
     let geometry = build_geometry_for_shutter(&scene, shutter);
-    drop(scene);
+    // The scene's lists freed here, before the build (the memory peak).
+    let textures = {
+        let mut scene = scene;
+        std::mem::take(&mut scene.textures)
+    };
     let moving = info.has_moving_spheres();
     let lighting = Lighting::new(&info);
     let accel = Aggregate::new(Bvh::new(geometry), opts.accel.or(info.accel).unwrap_or_default());
@@ -80,6 +89,7 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
         shutter,
         motion: moving && shutter[1] > shutter[0],
         info,
+        textures,
     }
 }
 
@@ -126,6 +136,16 @@ impl RenderScene {
     #[inline]
     pub fn materials(&self) -> &[Material] {
         &self.info.materials
+    }
+
+    /// The texel that multiplies what material `m` sends back at `hit` on `prim`
+    /// (see [`Material::texture`]): `None` for an untextured material, or a
+    /// primitive without texture coordinates.
+    #[inline]
+    pub fn texel(&self, m: &Material, prim: &Primitive, hit: &Hit) -> Option<Vec3> {
+        let texture = self.textures.get(m.texture? as usize)?;
+        let [u, v] = prim.texcoords(hit, self.accel.data())?;
+        Some(texture.sample(u, v))
     }
 
     /// The lights with their intensities, the ambient term and the shading rules.

@@ -403,7 +403,7 @@ impl PixelTrace {
             writeln!(f, "{pad}  shading normal {}", V(h.shading_normal))?;
         }
         let (mi, m) = &h.material;
-        let specular = if self.dialect.is_p3f() {
+        let specular = if self.dialect != crate::scene::Dialect::Nff {
             format!(" specular {}", V(m.specular))
         } else {
             String::new()

@@ -20,7 +20,7 @@ use super::bsdf::BsdfSample;
 use super::light::LightSampling;
 use super::path::PathTracer;
 use super::rows::EyeBlock;
-use super::shade::{Branch, P3fRules, SpdRules};
+use super::shade::{AffRules, Branch, P3fRules, SpdRules};
 use super::stats::{StageStats, Stats};
 use super::whitted::Whitted;
 use crate::accel::NO_HINT;
@@ -84,6 +84,8 @@ pub enum ChosenIntegrator<'a> {
     WhittedSpd(Whitted<'a, SpdRules>),
     /// Whitted ray tracing under the P3F course's rules.
     WhittedP3f(Whitted<'a, P3fRules>),
+    /// Whitted ray tracing under BART's original renderer's rules (AFF scenes).
+    WhittedAff(Whitted<'a, AffRules>),
     /// Path tracing.
     Path(PathTracer<'a>),
 }
@@ -105,6 +107,9 @@ impl<'a> ChosenIntegrator<'a> {
             (IntegratorKind::Whitted, Model::P3f) => {
                 ChosenIntegrator::WhittedP3f(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
             }
+            (IntegratorKind::Whitted, Model::Aff) => {
+                ChosenIntegrator::WhittedAff(Whitted::new(scene, sampling, opts.max_depth, opts.roughness))
+            }
         }
     }
 }
@@ -122,6 +127,7 @@ impl Integrator for ChosenIntegrator<'_> {
         match self {
             ChosenIntegrator::WhittedSpd(w) => w.eye_radiance(ray, found, id, ctx, rec),
             ChosenIntegrator::WhittedP3f(w) => w.eye_radiance(ray, found, id, ctx, rec),
+            ChosenIntegrator::WhittedAff(w) => w.eye_radiance(ray, found, id, ctx, rec),
             ChosenIntegrator::Path(p) => p.eye_radiance(ray, found, id, ctx, rec),
         }
     }
@@ -138,6 +144,7 @@ impl Integrator for ChosenIntegrator<'_> {
         match self {
             ChosenIntegrator::WhittedSpd(w) => w.eye_radiances(rays, found, ids, ctx, done),
             ChosenIntegrator::WhittedP3f(w) => w.eye_radiances(rays, found, ids, ctx, done),
+            ChosenIntegrator::WhittedAff(w) => w.eye_radiances(rays, found, ids, ctx, done),
             ChosenIntegrator::Path(p) => p.eye_radiances(rays, found, ids, ctx, done),
         }
     }
@@ -151,6 +158,7 @@ impl Streams for ChosenIntegrator<'_> {
         match self {
             ChosenIntegrator::WhittedSpd(w) => packet_by_packet(w, block, ctx, out),
             ChosenIntegrator::WhittedP3f(w) => packet_by_packet(w, block, ctx, out),
+            ChosenIntegrator::WhittedAff(w) => packet_by_packet(w, block, ctx, out),
             ChosenIntegrator::Path(p) => p.stream_radiances(block, ctx, out),
         }
     }

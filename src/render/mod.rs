@@ -43,7 +43,7 @@ pub use optics::{beer_lambert, reflect, refract, schlick};
 pub use progressive::{render_preview, Accumulator};
 pub use rows::{EyeBlock, RowTracer, BLOCK_PATHS};
 pub use sampling::{permute, sample_2d, Dim, Permutation, PixelSampler, PixelSeeds, SampleId, Strata};
-pub use shade::{Branch, Facets, P3fRules, Rules, SpdRules};
+pub use shade::{AffRules, Branch, Facets, P3fRules, Rules, SpdRules};
 pub use stats::{Stage, StageStats, Stats};
 
 use rayon::prelude::*;

@@ -1,5 +1,5 @@
 //! The shading model: the local illumination at a hit and the secondary rays it
-//! spawns, with their weights. Two models, chosen by the scene's dialect.
+//! spawns, with their weights. Three models, chosen by the scene's dialect.
 //!
 //! Both share the form of the local term. For a hit with material
 //! `(C, Kd, S, Ks, shine, T, ior)` (`S`, the specular colour, is white in NFF), facing
@@ -8,7 +8,7 @@
 //! (one for a point light, `M` for an area light, see `light.rs`):
 //!
 //! ```text
-//! colour = A * Kd * C                                                  ambient
+//! colour = A * Ka                                                      ambient (Ka = Kd * C but in AFF)
 //!        + sum over lights, over their points with dot(n, l_j) > 0, unshadowed:
 //!            I_l / M * (Kd * C * max(0, ns.l_j) + Ks * S * c_j^shine)  Lambert + highlight
 //!        + secondary rays (below)
@@ -43,6 +43,18 @@
 //! and refracts about microfacet normals drawn per ray ([`Facets`],
 //! [`super::microfacet`]); a direction that would leave on the wrong side of the
 //! surface is mirrored across it.
+//!
+//! **AFF (BART's original renderer, tuituji/bart `Scene::Radiance` in
+//! `src/scene.cpp`)**: `fm`'s colours enter as they are: the ambient reflectance
+//! `Ka` is `fm`'s ambient colour (0 for `f`), `A` the scene's `am` (white by
+//! default), `Kd * C` the diffuse colour and `Ks * S` the specular colour; lights
+//! have their colours as intensities and the highlight is Blinn-Phong's, as in NFF.
+//! Every hit spawns a mirror ray of weight `Ks * S * (1 - T)`, and one with
+//! `T > 0` a refracted ray of weight `T` (`ior` entering, 1 leaving); under total
+//! internal reflection the mirror ray carries the `T` too. A textured surface's
+//! whole colour, its secondary rays' included, is multiplied by its texel, and the
+//! colour a secondary ray returns is clamped to 1 in each channel, as the original
+//! clamps each ray's colour.
 
 use crate::math::Vec3;
 use crate::prepare::lighting::Model;
@@ -127,11 +139,33 @@ pub trait Rules {
     fn returned(color: Vec3) -> Vec3;
 
     /// The absorption coefficient per unit length inside a transmissive `m`, if it
-    /// absorbs (see the module docs).
-    fn absorption(m: &Material) -> Option<Vec3>;
+    /// absorbs (see the module docs); none but in P3F.
+    #[inline(always)]
+    fn absorption(_m: &Material) -> Option<Vec3> {
+        None
+    }
 
-    /// True if the rules draw rough directions for `m` (its roughness above 0).
-    fn is_rough(m: &Material) -> bool;
+    /// True if the rules draw rough directions for `m` (its roughness above 0);
+    /// never but in P3F (NFF and AFF have no roughness).
+    #[inline(always)]
+    fn is_rough(_m: &Material) -> bool {
+        false
+    }
+
+    /// The normals a smooth surface of facing geometric normal `n` and shading
+    /// normal `ns` sends its secondary rays about: `n` but in AFF, whose original
+    /// reflects and refracts about the interpolated normal.
+    #[inline(always)]
+    fn smooth_facets(n: Vec3, _ns: Vec3) -> Facets {
+        Facets::smooth(n)
+    }
+
+    /// What `m` reflects of the ambient light, given its `diffuse` colour `Kd * C`:
+    /// the diffuse colour but in AFF (see the module docs).
+    #[inline(always)]
+    fn ambient_reflectance(_m: &Material, diffuse: Vec3) -> Vec3 {
+        diffuse
+    }
 }
 
 /// [`Model::Spd`]'s rules.
@@ -139,6 +173,9 @@ pub struct SpdRules;
 
 /// [`Model::P3f`]'s rules.
 pub struct P3fRules;
+
+/// [`Model::Aff`]'s rules.
+pub struct AffRules;
 
 /// The indices of refraction on the incident and the transmitted side (`ior <= 0`,
 /// seen on opaque materials, means 1).
@@ -179,18 +216,6 @@ impl Rules for SpdRules {
         color
     }
 
-    /// None: the SPD's rules weight the refracted ray by `T` alone.
-    #[inline(always)]
-    fn absorption(_: &Material) -> Option<Vec3> {
-        None
-    }
-
-    /// Never: NFF has no roughness.
-    #[inline(always)]
-    fn is_rough(_: &Material) -> bool {
-        false
-    }
-
     #[inline(always)]
     fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, _: &Facets) -> Secondary {
         if m.ks <= 0.0 && m.t <= 0.0 {
@@ -199,24 +224,32 @@ impl Rules for SpdRules {
                 reflection: None,
             };
         }
-        let mut weight = m.ks;
-        let mut kind = Branch::Reflection;
-        let mut refraction = None;
-        if m.t > 0.0 {
-            let (n1, n2) = indices(m, entering);
-            match refract(d, n, n1 / n2) {
-                Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
-                // Total internal reflection: the transmitted share goes to the mirror ray.
-                None => {
-                    weight += m.t;
-                    kind = Branch::TotalInternalReflection;
-                }
+        whitted_split(m, d, n, entering, Vec3::splat(m.ks))
+    }
+}
+
+/// The Whitted split of the SPD's and AFF's rules: a mirror ray of weight `mirror`
+/// and, for `T > 0`, a refracted ray of weight `T` (Snell, [`indices`]); under total
+/// internal reflection the mirror ray carries the `T` too.
+#[inline(always)]
+fn whitted_split(m: &Material, d: Vec3, n: Vec3, entering: bool, mirror: Vec3) -> Secondary {
+    let mut weight = mirror;
+    let mut kind = Branch::Reflection;
+    let mut refraction = None;
+    if m.t > 0.0 {
+        let (n1, n2) = indices(m, entering);
+        match refract(d, n, n1 / n2) {
+            Some(dir) => refraction = Some((dir, Vec3::splat(m.t))),
+            // Total internal reflection: the transmitted share goes to the mirror ray.
+            None => {
+                weight += Vec3::splat(m.t);
+                kind = Branch::TotalInternalReflection;
             }
         }
-        Secondary {
-            refraction,
-            reflection: Some((kind, Vec3::splat(weight), reflect(d, n))),
-        }
+    }
+    Secondary {
+        refraction,
+        reflection: Some((kind, weight, reflect(d, n))),
     }
 }
 
@@ -273,6 +306,48 @@ impl Rules for P3fRules {
     }
 }
 
+impl Rules for AffRules {
+    /// Blinn-Phong, as the original's `H = normalize(L - dir)`.
+    #[inline(always)]
+    fn highlight_cosine(ns: Vec3, l: Vec3, view: Vec3) -> f32 {
+        SpdRules::highlight_cosine(ns, l, view)
+    }
+
+    /// Clamped to 1 in each channel: the original clamps every ray's colour.
+    #[inline(always)]
+    fn returned(color: Vec3) -> Vec3 {
+        color.min(Vec3::ONE)
+    }
+
+    /// `fm`'s ambient colour.
+    #[inline(always)]
+    fn ambient_reflectance(m: &Material, _diffuse: Vec3) -> Vec3 {
+        m.ambient
+    }
+
+    /// About the shading normal.
+    #[inline(always)]
+    fn smooth_facets(_n: Vec3, ns: Vec3) -> Facets {
+        Facets::smooth(ns)
+    }
+
+    /// About `facets` (the shading normal), each ray folded back to its side of the
+    /// surface `n` where the interpolated normal would send it across.
+    #[inline(always)]
+    fn secondary(m: &Material, d: Vec3, n: Vec3, entering: bool, facets: &Facets) -> Secondary {
+        // The original's `col1 * mat.specular * (1 - mat.T)`; it traces the mirror
+        // ray again for the transmitted share under total internal reflection.
+        let mirror = m.specular * (m.ks * (1.0 - m.t));
+        let mut split = whitted_split(m, d, facets.reflection, entering, mirror);
+        split.reflection = split
+            .reflection
+            .filter(|r| r.1 != Vec3::ZERO)
+            .map(|(kind, w, dir)| (kind, w, on_side(dir, n, true)));
+        split.refraction = split.refraction.map(|(dir, w)| (on_side(dir, n, false), w));
+        split
+    }
+}
+
 impl Model {
     /// The secondary rays of a hit on a smooth surface under this model's rules (see
     /// [`Rules`]).
@@ -281,6 +356,7 @@ impl Model {
         match self {
             Model::Spd => SpdRules::secondary(m, d, n, entering, &facets),
             Model::P3f => P3fRules::secondary(m, d, n, entering, &facets),
+            Model::Aff => AffRules::secondary(m, d, n, entering, &facets),
         }
     }
 }
@@ -343,5 +419,52 @@ mod tests {
         );
         let matte = Material { ks: 0.0, ..metal };
         assert_eq!(Model::P3f.secondary(&matte, -n, n, true).reflection, None);
+    }
+
+    #[test]
+    fn aff_mirrors_by_the_specular_colour_times_one_minus_t() {
+        let glass = Material {
+            specular: Vec3::new(1.0, 0.5, 0.0),
+            ks: 0.4,
+            t: 0.5,
+            ior: 1.5,
+            ..Material::DEFAULT
+        };
+        let n = Vec3::new(0.0, 1.0, 0.0);
+        let s = Model::Aff.secondary(&glass, -n, n, true);
+        // Ks S (1 - T) = (0.4, 0.2, 0) * 0.5; the refracted ray goes straight on at T.
+        assert_eq!(
+            s.reflection,
+            Some((Branch::Reflection, Vec3::new(0.2, 0.1, 0.0), n))
+        );
+        assert_eq!(s.refraction, Some((-n, Vec3::splat(0.5))));
+        // Leaving past the critical angle: the mirror ray carries T besides.
+        let d = Vec3::new(0.8, -0.6, 0.0);
+        let s = Model::Aff.secondary(&glass, d, n, false);
+        assert_eq!(s.refraction, None);
+        let (kind, weight, _) = s.reflection.unwrap();
+        assert_eq!(
+            (kind, weight),
+            (Branch::TotalInternalReflection, Vec3::new(0.7, 0.6, 0.5))
+        );
+        // No specular colour, opaque: no mirror ray; the ambient colour is `fm`'s.
+        let matte = Material {
+            ks: 0.0,
+            t: 0.0,
+            ambient: Vec3::splat(0.3),
+            ..glass
+        };
+        assert_eq!(Model::Aff.secondary(&matte, -n, n, true).reflection, None);
+        assert_eq!(AffRules::ambient_reflectance(&matte, Vec3::ONE), Vec3::splat(0.3));
+        // Smooth mirrors reflect about the interpolated normal (0.6, 0.8, 0), not the
+        // flat facet's (0, 1, 0): straight down, -y, comes back along
+        // d - 2 (d.ns) ns = (0.96, 0.28, 0).
+        let mirror = Material { t: 0.0, ..glass };
+        let ns = Vec3::new(0.6, 0.8, 0.0);
+        let facets = AffRules::smooth_facets(n, ns);
+        let (_, _, dir) = AffRules::secondary(&mirror, -n, n, true, &facets)
+            .reflection
+            .unwrap();
+        assert!(close(dir, Vec3::new(0.96, 0.28, 0.0)), "{dir:?}");
     }
 }

@@ -181,7 +181,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         At {
             prim,
             m,
-            t: hit.t,
+            hit: *hit,
             p,
             n,
             ns,
@@ -220,7 +220,7 @@ impl<'a, M: Rules> Whitted<'a, M> {
         } = *at;
         let diffuse = m.color * m.kd;
         let lighting = scene.lighting();
-        let mut color = lighting.ambient.mul_elem(diffuse);
+        let mut color = lighting.ambient.mul_elem(M::ambient_reflectance(m, diffuse));
         // An emitter shows its radiance on the side of its own normal (it lights
         // nothing here: the path tracer samples emitters as lights).
         if entering {
@@ -228,12 +228,12 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
         // What is left of the light on its way back through the medium (unit
         // directions: t is the distance).
-        let left = medium.map(|sigma| beer_lambert(sigma, at.t));
+        let left = medium.map(|sigma| beer_lambert(sigma, at.hit.t));
         if R::ENABLED {
             let record = HitRecord {
                 depth,
                 primitive: prim,
-                t: at.t,
+                t: at.hit.t,
                 point: p,
                 normal: n,
                 shading_normal: ns,
@@ -273,13 +273,13 @@ impl<'a, M: Rules> Whitted<'a, M> {
         }
 
         if depth >= self.max_depth {
-            return Self::done(depth, color, left, rec);
+            return Self::done(depth, self.textured(at, color), left, rec);
         }
         let rough = self.roughness && M::is_rough(m) && id.is_jittered();
         let facets = if rough {
             Self::facets(m, ray.dir, n, depth, id)
         } else {
-            Facets::smooth(n)
+            M::smooth_facets(n, ns)
         };
         let secondary = M::secondary(m, ray.dir, n, entering, &facets);
         if let Some((dir, weight)) = secondary.refraction {
@@ -308,7 +308,20 @@ impl<'a, M: Rules> Whitted<'a, M> {
             let r = Ray::with_time(above, dir, ray.time);
             color += self.trace(&r, depth + 1, medium, id, ctx, rec).mul_elem(weight);
         }
-        Self::done(depth, color, left, rec)
+        Self::done(depth, self.textured(at, color), left, rec)
+    }
+
+    /// `color` times `at`'s texel if its material is textured: a texel weights
+    /// everything the surface sends back, its secondary rays included (AFF's rules).
+    #[inline(always)]
+    fn textured(&self, at: &At, color: Vec3) -> Vec3 {
+        if at.m.texture.is_none() {
+            return color;
+        }
+        match self.scene.texel(at.m, at.prim, &at.hit) {
+            Some(texel) => color.mul_elem(texel),
+            None => color,
+        }
     }
 
     /// The microfacet normals about which a rough `m` hit by unit direction `d` (unit
@@ -619,8 +632,9 @@ impl KnownShadows for EyeLane<'_> {
 struct At<'a> {
     prim: &'a Primitive,
     m: &'a Material,
-    /// Distance along the ray.
-    t: f32,
+    /// The hit as the primitive found it: the distance along the ray, and the
+    /// barycentrics that place texels.
+    hit: Hit,
     /// The hit point.
     p: Vec3,
     /// Geometric normal facing the ray.

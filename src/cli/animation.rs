@@ -1,0 +1,98 @@
+//! `nffrt render SCENE.aff --frames A..B -o out_%04d.png`: an animation's frames,
+//! each flattened at its time, built and rendered as a scene of its own (a
+//! per-frame rebuild), written whole to its own picture. The progress bar counts
+//! frames; the closing line splits the time into update (flatten and build) and
+//! render.
+
+use std::time::Instant;
+
+use super::frames::{flatten, FrameJob};
+use super::image_out::{display_name, format_of, Destination};
+use super::progress::Progress;
+use super::render::{prepare_options, progress_mode, render_error, resolve, written_encoding, RenderArgs};
+use super::{interrupt, CliError};
+use nffrt::image::{Region, SOFTWARE_TEXT};
+use nffrt::load::Loaded;
+use nffrt::prepare::prepare_with;
+use nffrt::render::{region_eye_rows, render_region};
+use nffrt::words::count;
+
+/// Seconds spent on the frames: flattening, building, rendering (and writing).
+#[derive(Clone, Copy, Debug, Default)]
+struct Seconds {
+    flatten: f64,
+    build: f64,
+    render: f64,
+}
+
+/// Renders `jobs` (two frames or more) of `loaded` as `args` say, on `pool`.
+pub fn run(
+    args: &RenderArgs,
+    pool: &rayon::ThreadPool,
+    loaded: &Loaded,
+    jobs: &[FrameJob],
+) -> Result<(), CliError> {
+    if args.denoise.is_some() || !args.aov.is_empty() {
+        return Err(CliError::usage(
+            "--denoise and --aov: not with --frames yet (render a frame at a time with --frame N)",
+        ));
+    }
+    let format = format_of(&jobs[0].output)?;
+    // The settings of the first frame (its notes printed once); every frame has the
+    // same size and sampling, whatever its camera.
+    let (opts, encoding) = resolve(args, &loaded.scene.info())?;
+    let encoding = written_encoding(format, encoding);
+    let region = Region::full(opts.width, opts.height);
+    let sized_by_flags = args.width.is_some() || args.height.is_some();
+    args.limits.check(&opts, &region, sized_by_flags)?;
+    let rows = region_eye_rows(&opts, &region);
+    let progress = Progress::frames(rows, jobs.len() as u64, progress_mode(args));
+    let limits = args.limits.render_limits();
+    let mut seconds = Seconds::default();
+    let mut rays = 0;
+    let start = Instant::now();
+    for job in jobs {
+        let t0 = Instant::now();
+        let scene = flatten(loaded, job)?;
+        let t1 = Instant::now();
+        let output = Destination::create(&job.output)?;
+        let scene = pool.install(|| prepare_with(scene, &loaded.assets, &prepare_options(args)));
+        let t2 = Instant::now();
+        interrupt::check()?;
+        let rendered =
+            pool.install(|| render_region(&scene, scene.view(), &opts, &region, &limits, &progress));
+        let (image, stats) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
+        output.write_image(
+            &image,
+            format,
+            encoding,
+            &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
+        )?;
+        seconds.flatten += (t1 - t0).as_secs_f64();
+        seconds.build += (t2 - t1).as_secs_f64();
+        seconds.render += t2.elapsed().as_secs_f64();
+        rays += stats.total_rays();
+    }
+    progress.finish();
+    if !args.quiet {
+        let total = start.elapsed().as_secs_f64();
+        let (first, last) = (&jobs[0], &jobs[jobs.len() - 1]);
+        eprintln!(
+            "rendered {} ({} .. {}) in {total:.2} s, {:.2} frames/s: flatten {:.2} s + build {:.2} s (update {:.1} %), render and write {:.2} s; {}, {}x{}, {}, {}",
+            count(jobs.len(), "frame", "frames"),
+            display_name(&first.output),
+            display_name(&last.output),
+            jobs.len() as f64 / total.max(1e-9),
+            seconds.flatten,
+            seconds.build,
+            100.0 * (seconds.flatten + seconds.build) / total.max(1e-9),
+            seconds.render,
+            count(rays as usize, "ray", "rays"),
+            opts.width,
+            opts.height,
+            opts.sampling,
+            count(pool.current_num_threads(), "thread", "threads")
+        );
+    }
+    Ok(())
+}
