@@ -438,23 +438,12 @@ fn time_packets(
     bvh: &Bvh,
     coherence: Coherence,
 ) -> Timing {
-    let pass = || -> usize {
-        pool.install(|| {
-            rays.par_chunks(4096)
-                .map(|c| {
-                    c.chunks(PACKET)
-                        .map(|packet| {
-                            let mut out = [None; PACKET];
-                            let active = (1 << packet.len()) - 1;
-                            bvh.closest_hits8(&Ray8::new(packet), f32::INFINITY, active, coherence, &mut out);
-                            out.iter().filter(|h| h.is_some()).count()
-                        })
-                        .sum::<usize>()
-                })
-                .sum::<usize>()
-        })
-    };
-    time_passes(rays.len(), repeat, pass)
+    time_packet_passes(pool, rays, repeat, |packet| {
+        let mut out = [None; PACKET];
+        let active = (1 << packet.len()) - 1;
+        bvh.closest_hits8(&Ray8::new(packet), f32::INFINITY, active, coherence, &mut out);
+        out.iter().filter(|h| h.is_some()).count()
+    })
 }
 
 /// [`time_packets`] for occlusion queries.
@@ -465,19 +454,26 @@ fn time_packets_occlusion(
     bvh: &Bvh,
     coherence: Coherence,
 ) -> Timing {
+    time_packet_passes(pool, rays, repeat, |packet| {
+        let active = (1 << packet.len()) - 1;
+        let limits = [f32::INFINITY; PACKET];
+        bvh.occluded8(&Ray8::new(packet), &limits, active, coherence)
+            .count_ones() as usize
+    })
+}
+
+/// Passes over `rays` [`PACKET`] consecutive rays at a time, `query` giving each
+/// packet's hits, timed as [`time_passes`] times them.
+fn time_packet_passes(
+    pool: &rayon::ThreadPool,
+    rays: &[Ray],
+    repeat: u32,
+    query: impl Fn(&[Ray]) -> usize + Sync,
+) -> Timing {
     let pass = || -> usize {
         pool.install(|| {
             rays.par_chunks(4096)
-                .map(|c| {
-                    c.chunks(PACKET)
-                        .map(|packet| {
-                            let active = (1 << packet.len()) - 1;
-                            let limits = [f32::INFINITY; PACKET];
-                            bvh.occluded8(&Ray8::new(packet), &limits, active, coherence)
-                                .count_ones() as usize
-                        })
-                        .sum::<usize>()
-                })
+                .map(|c| c.chunks(PACKET).map(&query).sum::<usize>())
                 .sum::<usize>()
         })
     };
