@@ -279,6 +279,8 @@ fn the_page_renders_orbits_explains_a_pixel_and_reloads() {
     browser.wait_for("document.body.dataset.complete === 'true'");
     browser.screenshot(&shots.join("1-converged.png"));
     let (before, gen) = browser.picture();
+    let slider = browser.run("return document.getElementById('animation').hidden;");
+    assert_eq!(slider.as_bool(), Some(true), "an NFF scene has no time slider");
 
     // Drag to orbit: new generations, coarse frames while moving, a new picture.
     browser.pointer_on_picture(&[(30, 0), (30, 0), (30, 10), (30, 10)]);
@@ -769,4 +771,71 @@ fn a_reference_flips_against_the_live_picture_with_its_flip_map_and_error_plot()
         "one sample denoised is closer: {denoised:?} against {noisy:?}"
     );
     browser.screenshot(&shots.join("8-denoised.png"));
+}
+
+/// An AFF ball keyed across 4 frames (as tests/view_frames.rs's), on a grey
+/// background so the pictures of two frames differ anywhere the ball goes.
+const AFF_BALL: &str = "v from 0 0 10 at 0 0 0 up 0 1 0 angle 28 hither 1 resolution 160 120\n\
+    b 0.2 0.2 0.3\nam 1 1 1\nfm 0.9 0.5 0.1  0 0 0  0 0 0  1 0 1\na 0 3 4\n\
+    x ball { s 0 0 0 0.6 }\n\
+    k ball { transl 4  -1 -2 0 0 0 0 0   0 -2 0 0 0 0 0   3 2 0 0 0 0 0   4 2 0 0 0 0 0 }\n";
+
+/// An AFF scene's page: the time slider with its frame and time, a frame chosen on
+/// it rendered and kept in the URL (and shown again after the page reloads), and
+/// play moving through the frames until paused.
+#[test]
+fn an_animated_scene_has_a_time_slider_play_and_its_frame_in_the_url() {
+    let Some((driver, shots, work)) = setup("animation") else {
+        return;
+    };
+    let file = work.join("ball.aff");
+    std::fs::write(&file, AFF_BALL).unwrap();
+    let server = Server::start(&file, &[]);
+    let browser = Browser::start(&driver, &work.join("profile"));
+    browser.cmd("POST", "url", json!({"url": server.url}));
+    browser.wait_for("document.body.dataset.complete === 'true'");
+    let shown = browser.run(
+        "const s = document.getElementById('frame-slider');\n\
+         return [document.getElementById('animation').hidden, s.max, document.body.dataset.animFrame];",
+    );
+    assert_eq!(shown, json!([false, "3", "0"]), "the slider, frames 0 to 3, at 0");
+    let (first, gen) = browser.picture();
+
+    // Frame 2 on the slider: its picture, its time (0.75 x 2 = 1.5), the URL.
+    browser.set_slider(2);
+    let (second, _) = browser.next_picture(gen);
+    assert_ne!(first, second, "frame 2 shows the ball elsewhere");
+    let label = browser.run("return document.getElementById('frame-label').innerText;");
+    assert_eq!(label, json!("2 / 3 · time 1.5"));
+    let url = browser.run("return location.href;");
+    assert!(url.as_str().unwrap().contains("frame=2"), "{url}");
+    browser.screenshot(&shots.join("13-animation-frame-2.png"));
+
+    // The page reloaded at that URL: frame 2 again, the same picture.
+    browser.cmd("POST", "url", json!({"url": url}));
+    browser.wait_for("document.body.dataset.complete === 'true'");
+    assert_eq!(browser.run("return document.body.dataset.animFrame;"), json!("2"));
+    let (again, gen) = browser.picture();
+    assert_eq!(again, second, "the reloaded page shows frame 2");
+
+    // Play: the frames move on (past the last, back to 0); pause: the frame refines.
+    browser.run("document.getElementById('play').click();");
+    browser.wait_for("document.body.dataset.animFrame === '3'");
+    browser.wait_for("document.body.dataset.animFrame === '0'");
+    browser.run("document.getElementById('play').click();");
+    let paused =
+        browser.run("return [document.body.dataset.playing, document.getElementById('play').innerText];");
+    assert_eq!(paused, json!(["false", "Play"]));
+    browser.next_picture(gen);
+    eprintln!("screenshots in {}", shots.display());
+}
+
+impl Browser {
+    /// Moves the time slider to `frame` as a user would, firing its input event.
+    fn set_slider(&self, frame: u32) {
+        self.run(&format!(
+            "const e = document.getElementById('frame-slider'); e.value = '{frame}';\n\
+             e.dispatchEvent(new Event('input'));"
+        ));
+    }
 }

@@ -105,8 +105,14 @@ pub enum ClientMessage {
         camera: CameraMsg,
         /// The settings.
         options: OptionsMsg,
+        /// The frame of an animated (AFF) scene, 0 its first; left out, the scene
+        /// as loaded (frame 0 of an AFF scene). A frame the scene does not have is
+        /// refused.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        frame: Option<u32>,
     },
-    /// Trace pixel `(x, y)` of the current generation's picture and send its ray tree.
+    /// Trace pixel `(x, y)` of the current generation's picture (its frame) and send
+    /// its ray tree.
     Pixel {
         /// Column, from the left.
         x: u32,
@@ -152,6 +158,19 @@ pub struct Counts {
     pub materials: usize,
 }
 
+/// An AFF scene's animation, as the page's time slider shows it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AnimationMsg {
+    /// How many frames (1 for a still AFF scene): 0 to `frames - 1`.
+    pub frames: u32,
+    /// The time of frame 0.
+    pub start: f64,
+    /// The time between two frames.
+    pub step: f64,
+    /// Each frame's camera (the file's, keyframed), where "reset" goes on it.
+    pub cameras: Vec<CameraMsg>,
+}
+
 /// A message to the page.
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -180,6 +199,8 @@ pub enum ServerMessage {
         has_roughness: bool,
         /// True if the scene has moving spheres (the shutter matters).
         has_motion: bool,
+        /// An AFF scene's frames (`None` for NFF and P3F).
+        animation: Option<AnimationMsg>,
         /// Seconds spent parsing and building.
         load_s: f64,
         /// What the settings may be.
@@ -215,6 +236,8 @@ pub enum ServerMessage {
         camera: CameraMsg,
         /// The settings rendered.
         options: OptionsMsg,
+        /// The frame rendered (`None`: the scene as loaded).
+        frame: Option<u32>,
         /// The camera as a block for the scene file (`v` or `camera`).
         camera_block: String,
     },
@@ -238,6 +261,8 @@ pub enum ServerMessage {
         gen: u64,
         /// The camera it was traced with (for drawing the rays over the picture).
         camera: CameraMsg,
+        /// The frame it was traced in (`None`: the scene as loaded).
+        frame: Option<u32>,
         /// True if the scene's angle spans the image edges (P3F), not pixel centres.
         angle_spans_edges: bool,
         /// Each primitive kind's name in the scene's language, e.g. `"sphere (s)"`.
@@ -316,7 +341,7 @@ pub fn parse_client_message(text: &str) -> Result<ClientMessage, String> {
         ));
     }
     let msg: ClientMessage = serde_json::from_str(text).map_err(|e| format!("bad message: {e}"))?;
-    if let ClientMessage::Render { camera, options } = &msg {
+    if let ClientMessage::Render { camera, options, .. } = &msg {
         check_camera(camera)?;
         check_shutter(options)?;
     }
@@ -385,6 +410,7 @@ mod tests {
                 accel: Accel::Grid,
                 denoise: true,
             },
+            frame: Some(2),
         }
     }
 
@@ -402,6 +428,7 @@ mod tests {
             (r#"{"type":"launch"}"#, "unknown variant"),
             (r#"{"type":"pixel","x":-1,"y":0}"#, "bad message"),
             (r#"{"type":"pixel","x":1,"y":0,"z":2}"#, "unknown field"),
+            (r#"{"type":"pixel","x":1,"y":0,"frame":2}"#, "unknown field"),
             (r#"[1,2]"#, "bad message"),
         ] {
             let e = parse_client_message(bad).unwrap_err();
@@ -415,9 +442,10 @@ mod tests {
     fn options_without_the_later_settings_mean_the_defaults() {
         let text = r#"{"type":"render","camera":{"from":[0,0,5],"at":[0,0,0],"up":[0,1,0],"angle":40},
             "options":{"width":8,"height":6,"max_depth":5,"spp":1,"lens":true,"soft_shadows":true}}"#;
-        let Ok(ClientMessage::Render { options, .. }) = parse_client_message(text) else {
+        let Ok(ClientMessage::Render { options, frame, .. }) = parse_client_message(text) else {
             panic!("refused")
         };
+        assert_eq!(frame, None);
         assert!(options.rough);
         assert_eq!(options.integrator, IntegratorKind::Whitted);
         assert_eq!(options.shutter, [0.0, 1.0]);
@@ -431,12 +459,18 @@ mod tests {
             let ClientMessage::Render {
                 mut camera,
                 mut options,
+                frame,
             } = render_msg()
             else {
                 unreachable!()
             };
             f(&mut camera, &mut options);
-            parse_client_message(&serde_json::to_string(&ClientMessage::Render { camera, options }).unwrap())
+            let msg = ClientMessage::Render {
+                camera,
+                options,
+                frame,
+            };
+            parse_client_message(&serde_json::to_string(&msg).unwrap())
         };
         assert!(with(&|c, _| c.at = c.from).unwrap_err().contains("coincide"));
         assert!(with(&|c, _| c.up = [0.0, 0.0, -1.0])
@@ -532,7 +566,7 @@ mod tests {
             v in prop::array::uniform10(finite()),
             w in 0u32..5000, h in 0u32..5000, depth in 0u32..80, spp in 0u32..5000,
             lens: bool, soft: bool, rough: bool, path: bool, shutter in prop::array::uniform2(finite()),
-            denoise: bool,
+            denoise: bool, frame: Option<u32>,
         ) {
             let msg = ClientMessage::Render {
                 camera: CameraMsg { from: [v[0], v[1], v[2]], at: [v[3], v[4], v[5]], up: [v[6], v[7], v[8]], angle: v[9] },
@@ -541,6 +575,7 @@ mod tests {
                     integrator: if path { IntegratorKind::Path } else { IntegratorKind::Whitted }, shutter,
                     accel: Accel::None, denoise,
                 },
+                frame,
             };
             match parse_client_message(&serde_json::to_string(&msg).unwrap()) {
                 Ok(back) => prop_assert_eq!(back, msg),

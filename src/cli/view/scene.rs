@@ -15,13 +15,18 @@ use std::time::{Duration, Instant};
 use notify::{EventKind, RecursiveMode, Watcher};
 use tokio::sync::broadcast;
 
-use super::protocol::Counts;
+use super::protocol::{AnimationMsg, CameraMsg, Counts};
 use crate::cli::limits::SceneLimitArgs;
 use crate::cli::load::{decoded_assets, load_scene_cancellable, Need};
 use crate::cli::CliError;
+use nffrt::aff::AffScene;
 use nffrt::load::Assets;
 use nffrt::prepare::{prepare, prepare_with, PrepareOptions, RenderScene};
 use nffrt::scene::Scene;
+
+/// The most frames whose cameras the scene message lists; a longer animation's
+/// page keeps the camera it has (the message would pass a megabyte).
+pub const MAX_ANIMATION_CAMERAS: u32 = 8192;
 
 /// How long the file must stay quiet before it is read.
 pub const SETTLE: Duration = Duration::from_millis(60);
@@ -36,6 +41,12 @@ pub struct Loaded {
     parsed: (Scene, Assets),
     /// The last scene prepared with other settings than the file's.
     variant: Mutex<Option<(PrepareOptions, Arc<RenderScene>)>>,
+    /// An AFF scene as parsed, whose frames the page may ask for (`None` for NFF
+    /// and P3F, which do not move).
+    pub aff: Option<Arc<AffScene>>,
+    /// The last frame asked for, flattened and prepared with those settings: the
+    /// passes that refine a paused frame, and its ray trees, reuse it.
+    frame: Mutex<Option<(u32, PrepareOptions, Arc<RenderScene>)>>,
     /// 0 for the first load, then one more for each successful reload.
     pub version: u64,
     /// What the scene holds.
@@ -50,11 +61,7 @@ impl Loaded {
     /// The scene prepared with `opts`: the file's own when they change nothing, else
     /// prepared again (and kept until other settings are asked for).
     pub fn prepared(&self, opts: &PrepareOptions) -> Arc<RenderScene> {
-        let info = self.scene.info();
-        let asked = PrepareOptions {
-            shutter: opts.shutter.filter(|&s| s != info.shutter),
-            accel: opts.accel.filter(|&a| a != self.scene.accel().kind()),
-        };
+        let asked = self.asked(opts);
         if asked == PrepareOptions::default() {
             return self.scene.clone();
         }
@@ -70,6 +77,87 @@ impl Loaded {
                 scene
             }
         }
+    }
+
+    /// The settings of `opts` that are not the file's (`nffrt render` without the
+    /// flags that would ask for them prepares with none).
+    fn asked(&self, opts: &PrepareOptions) -> PrepareOptions {
+        let info = self.scene.info();
+        PrepareOptions {
+            shutter: opts.shutter.filter(|&s| s != info.shutter),
+            accel: opts.accel.filter(|&a| a != self.scene.accel().kind()),
+        }
+    }
+
+    /// An AFF scene's frames as the page's slider shows them (`None` for NFF and
+    /// P3F). The cameras are listed when keyframed and not too many.
+    pub fn animation(&self) -> Option<AnimationMsg> {
+        let aff = self.aff.as_deref()?;
+        let frames = aff.frames();
+        let cameras = if aff.camera_track.is_some() && frames <= MAX_ANIMATION_CAMERAS {
+            let at = |n| aff.camera_at(aff.time_of_frame(n));
+            (0..frames).map(|n| CameraMsg::of(&at(n))).collect()
+        } else {
+            vec![]
+        };
+        Some(AnimationMsg {
+            frames,
+            start: aff.time_of_frame(0),
+            step: aff.span.map_or(0.0, |s| s.step()),
+            cameras,
+        })
+    }
+
+    /// Refuses a frame the scene does not have: any frame of a scene that is not
+    /// AFF, a frame past an AFF scene's last.
+    pub fn check_frame(&self, frame: u32) -> Result<(), String> {
+        let Some(aff) = self.aff.as_deref() else {
+            return Err(format!(
+                "frame {frame}: the scene is not AFF (it reads as {}) and does not move",
+                self.scene.info().dialect.name()
+            ));
+        };
+        if frame >= aff.frames() {
+            return Err(format!(
+                "frame {frame}: the scene has {} (0 to {})",
+                nffrt::words::count(aff.frames() as usize, "frame", "frames"),
+                aff.frames() - 1
+            ));
+        }
+        Ok(())
+    }
+
+    /// The scene of `frame` prepared with `opts` (the file's scene, as
+    /// [`Loaded::prepared`], for `None`): an AFF scene flattened at the frame's
+    /// time, as `nffrt render --frame N` renders it, and kept until another frame
+    /// or other settings are asked for.
+    pub fn prepared_frame(
+        &self,
+        frame: Option<u32>,
+        opts: &PrepareOptions,
+    ) -> Result<Arc<RenderScene>, String> {
+        let Some(n) = frame else {
+            return Ok(self.prepared(opts));
+        };
+        self.check_frame(n)?;
+        let aff = self.aff.as_deref().expect("checked: an AFF scene");
+        let asked = self.asked(opts);
+        let mut kept = self
+            .frame
+            .lock()
+            .map_err(|_| "a frame failed to prepare".to_string())?;
+        if let Some((made, with, scene)) = kept.as_ref() {
+            if (*made, *with) == (n, asked) {
+                return Ok(scene.clone());
+            }
+        }
+        let time = aff.time_of_frame(n);
+        let flat = aff
+            .flatten(time)
+            .map_err(|e| format!("frame {n} (time {time}): {e}"))?;
+        let scene = Arc::new(prepare_with(flat, &self.parsed.1, &asked));
+        *kept = Some((n, asked, scene.clone()));
+        Ok(scene)
     }
 }
 
@@ -102,6 +190,7 @@ impl Source {
         let t0 = Instant::now();
         let loaded = load_scene_cancellable(&self.path, &self.limits, Need::Render, cancel)?;
         let parsed = (loaded.scene.clone(), loaded.assets.clone());
+        let aff = loaded.aff.clone();
         let scene = Arc::new(prepare(loaded.scene, &loaded.assets));
         // The skybox's faces decoded before the first frame, so that a broken one is
         // a failed load the page shows (the current scene stays).
@@ -117,6 +206,8 @@ impl Source {
             scene,
             parsed,
             variant: Mutex::new(None),
+            aff,
+            frame: Mutex::new(None),
             version,
             counts,
             warnings,

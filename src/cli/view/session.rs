@@ -36,6 +36,7 @@ const MAX_TREE_BYTES: usize = 8 << 20;
 struct Request {
     camera: CameraMsg,
     options: OptionsMsg,
+    frame: Option<u32>,
 }
 
 /// A session's state, owned by its task.
@@ -177,8 +178,19 @@ impl Session {
     fn handle(&mut self, text: &str) -> Vec<Reply> {
         match parse_client_message(text) {
             Err(e) => vec![error(e)],
-            Ok(ClientMessage::Render { camera, options }) => {
-                self.request = Some(Request { camera, options });
+            Ok(ClientMessage::Render {
+                camera,
+                options,
+                frame,
+            }) => {
+                if let Some(Err(e)) = frame.map(|n| self.loaded.check_frame(n)) {
+                    return vec![error(e)];
+                }
+                self.request = Some(Request {
+                    camera,
+                    options,
+                    frame,
+                });
                 vec![self.start("request").into()]
             }
             Ok(ClientMessage::Pixel { x, y }) => self.pixel(x, y),
@@ -204,6 +216,7 @@ impl Session {
         self.worker.submit(Job {
             gen: self.gen,
             loaded: self.loaded.clone(),
+            frame: r.frame,
             prepare: prepare_options(&r.options),
             view,
             opts,
@@ -217,6 +230,7 @@ impl Session {
             reason,
             camera: r.camera,
             options: r.options,
+            frame: r.frame,
             camera_block: camera_block(&view, self.loaded.scene.info().dialect),
         }
     }
@@ -227,6 +241,9 @@ impl Session {
         let (old, new) = (*self.loaded.scene.view(), *loaded.scene.view());
         self.loaded = loaded;
         if let Some(r) = self.request.as_mut() {
+            // A frame the new scene does not have: its last, or none if it is not AFF.
+            let frames = self.loaded.aff.as_ref().map(|a| a.frames());
+            r.frame = r.frame.and_then(|n| frames.map(|f| n.min(f - 1)));
             if (old.from, old.at, old.up, old.angle) != (new.from, new.at, new.up, new.angle) {
                 r.camera = CameraMsg::of(&new);
             }
@@ -258,6 +275,7 @@ impl Session {
             has_area_lights: info.area_lights() > 0,
             has_roughness: info.has_rough_materials(),
             has_motion: info.has_moving_spheres(),
+            animation: l.animation(),
             load_s: l.load_s,
             limits: LimitsMsg::NFFRT,
             denoiser: self
@@ -327,7 +345,11 @@ impl Session {
         }
         let (loaded, gen) = (self.loaded.clone(), self.gen);
         self.tracing = Some(tokio::task::spawn_blocking(move || {
-            let scene = &*loaded.prepared(&prepare_options(&r.options));
+            let scene = match loaded.prepared_frame(r.frame, &prepare_options(&r.options)) {
+                Ok(scene) => scene,
+                Err(message) => return ServerMessage::Error { message },
+            };
+            let scene = &*scene;
             let view = view_of(scene.view(), &r.camera, &r.options);
             let opts = match options_of(&r.options, scene.info()) {
                 Ok((opts, _)) => opts,
@@ -357,6 +379,7 @@ impl Session {
             ServerMessage::RayTree {
                 gen,
                 camera: r.camera,
+                frame: r.frame,
                 angle_spans_edges: view.angle_span == AngleSpan::ImageEdges,
                 kinds: kinds(scene.info().dialect),
                 trace,

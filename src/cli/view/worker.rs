@@ -49,6 +49,9 @@ pub struct Job {
     pub gen: u64,
     /// The scene.
     pub loaded: Arc<Loaded>,
+    /// The frame of an AFF scene (checked by the session); `None`: the scene as
+    /// loaded.
+    pub frame: Option<u32>,
     /// Its render-time settings (prepared again when they are not the file's).
     pub prepare: PrepareOptions,
     /// The camera (the scene's own view with the request's position and angle).
@@ -266,7 +269,15 @@ fn frame(
 /// Renders one generation until it converges or a newer one cancels it, each
 /// render in its turn.
 fn run(job: &Job, latest: &AtomicU64, turns: &Turns, out: &Outlets, shown: &Shown) {
-    let prepared = job.loaded.prepared(&job.prepare);
+    // The frame was checked; a frame that cannot be flattened (a transform that
+    // overflows at that time, say) renders nothing, as `nffrt render --frame` fails.
+    let prepared = match job.loaded.prepared_frame(job.frame, &job.prepare) {
+        Ok(scene) => scene,
+        Err(e) => {
+            eprintln!("nffrt view: {e}");
+            return;
+        }
+    };
     let scene = &*prepared;
     let opts = &job.opts;
     let frames = &out.frames;

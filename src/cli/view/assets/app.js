@@ -21,6 +21,8 @@ let cameraBlock = '';
 let lastTree = null;
 let treeCamera = null; // the page's camera when the pixel was clicked
 let pending = false;
+let animFrame = null; // the animation frame asked for (null: the scene as loaded)
+let playing = null; // while playing: {t0, f0, gen, advanced}
 
 // --- vectors -------------------------------------------------------------
 const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
@@ -58,7 +60,7 @@ function requestRender() {
   pending = true;
   requestAnimationFrame(() => {
     pending = false;
-    send({ type: 'render', camera, options });
+    send(animFrame === null ? { type: 'render', camera, options } : { type: 'render', camera, options, frame: animFrame });
   });
 }
 
@@ -66,6 +68,7 @@ function onText(msg) {
   switch (msg.type) {
     case 'scene': return onScene(msg);
     case 'view':
+      if (playing && msg.frame === animFrame) Object.assign(playing, { gen: msg.gen, advanced: false });
       cameraBlock = msg.camera_block;
       $('camera-block').textContent = cameraBlock;
       if (msg.reason === 'reload') {
@@ -106,8 +109,9 @@ function onScene(msg) {
   for (const [id, max] of [['width', lim.max_side], ['height', lim.max_side], ['depth', lim.max_depth], ['spp', lim.max_spp]]) {
     $(id).dataset.max = max;
   }
+  showAnimation(msg.animation, first);
   if (first) {
-    camera = msg.camera;
+    camera = frameCamera() || msg.camera;
     options = msg.options;
     showOptions();
     requestRender();
@@ -130,6 +134,7 @@ function onBinary(buffer) {
   if (header.gen < shownGen) return;
   shownGen = header.gen;
   draw(header, payload);
+  if (playing && header.gen === playing.gen && !playing.advanced) playOn();
   frames += 1;
   if (header.stride === 1) fullFrames += 1;
   body.dataset.frame = frames;
@@ -310,7 +315,7 @@ function layout() {
 
 function reset() {
   if (!scene) return;
-  camera = scene.camera;
+  camera = frameCamera() || scene.camera;
   requestRender();
 }
 $('reset').addEventListener('click', reset);
@@ -638,5 +643,99 @@ function drawRays() {
     octx.stroke();
   }
 }
+
+// --- animation (AFF scenes) -------------------------------------------
+// The frame is in the URL (`frame=N`), so a reload shows the same one. Changing
+// frames moves the camera to the new frame's (the file's keyframes) unless the
+// user has moved it off the old frame's.
+
+// The camera of the frame asked for, when the file keys it.
+function frameCamera() {
+  const cams = scene && scene.animation ? scene.animation.cameras : [];
+  return animFrame !== null && cams.length > animFrame ? cams[animFrame] : null;
+}
+
+function showAnimation(anim, first) {
+  const animated = !!anim && anim.frames > 1;
+  $('animation').hidden = !animated;
+  if (!animated) {
+    stop();
+    animFrame = null;
+  } else {
+    const asked = first ? Number.parseInt(new URLSearchParams(location.search).get('frame'), 10) : animFrame;
+    animFrame = Math.min(Number.isInteger(asked) && asked >= 0 ? asked : 0, anim.frames - 1);
+    $('frame-slider').max = anim.frames - 1;
+  }
+  showFrame();
+}
+
+function showFrame() {
+  body.dataset.animFrame = animFrame === null ? 'none' : animFrame;
+  const url = new URL(location.href);
+  if (animFrame === null) {
+    url.searchParams.delete('frame');
+  } else {
+    const a = scene.animation;
+    $('frame-slider').value = animFrame;
+    $('frame-label').textContent = `${animFrame} / ${a.frames - 1} · time ${num(a.start + animFrame * a.step)}`;
+    url.searchParams.set('frame', animFrame);
+  }
+  history.replaceState(history.state, '', url);
+}
+
+function setFrame(n) {
+  if (animFrame === null || n === animFrame) return;
+  const same = (a, b) => a && b && JSON.stringify(a) === JSON.stringify(b);
+  const before = frameCamera();
+  animFrame = n;
+  const after = frameCamera();
+  if (after && (!before || same(camera, before))) camera = after;
+  showFrame();
+  requestRender();
+}
+
+// Frames per second: one frame per step of the file's time, 1 to 60.
+function fps() {
+  const step = scene.animation.step;
+  return step > 0 ? Math.min(Math.max(1 / step, 1), 60) : 10;
+}
+
+// The first picture of the frame shown while playing has come: the next frame is
+// the one the clock is at (frames skipped when rendering is slower), no sooner
+// than one frame time after the last; past the end, the animation starts over.
+function playOn() {
+  playing.advanced = true;
+  const now = performance.now(), period = 1000 / fps();
+  let next = Math.max(animFrame + 1, playing.f0 + Math.floor((now - playing.t0) / period));
+  if (next >= scene.animation.frames) {
+    next = 0;
+    Object.assign(playing, { t0: now + period, f0: 0 });
+  }
+  const due = playing.t0 + (next - playing.f0) * period;
+  playing.timer = setTimeout(() => setFrame(next), Math.max(0, due - now));
+}
+
+function play() {
+  if (animFrame === null) return;
+  playing = { t0: performance.now(), f0: animFrame, gen: -1, advanced: true };
+  $('play').textContent = 'Pause';
+  body.dataset.playing = 'true';
+  // The frame shown has its pictures already: go on at once.
+  playOn();
+}
+
+// Paused, the frame shown refines as a still scene does (its generation goes on).
+function stop() {
+  if (playing) clearTimeout(playing.timer);
+  playing = null;
+  $('play').textContent = 'Play';
+  body.dataset.playing = 'false';
+}
+
+$('play').addEventListener('click', () => (playing ? stop() : play()));
+$('frame-slider').addEventListener('input', (ev) => {
+  stop();
+  setFrame(Number(ev.target.value));
+});
 
 connect();
