@@ -131,3 +131,48 @@ fn a_frame_of_a_scene_that_does_not_move_is_refused() {
     let gen = c.until_json("view", |_| {})["gen"].as_u64().unwrap();
     c.until_complete(gen, |_| {});
 }
+
+/// A ball that grows from radius 10 at time 0 to past the range of `f32` by
+/// time 1: its frame 0 renders, its frame 2 cannot be flattened.
+const GROWING: &str = "v from 0 0 10 at 0 0 0 up 0 1 0 angle 30 hither 1 resolution 20 20\n\
+    b 0 0 0\nam 1 1 1\nfm 1 1 1  0 0 0  0 0 0  1 0 1\na 0 1 4\n\
+    x grow { s 0 0 0 10 }\n\
+    k grow { scale 4  -1 1 1 1 0 0 0   0 1 1 1 0 0 0   1 1e38 1e38 1e38 0 0 0   2 1e38 1e38 1e38 0 0 0 }\n";
+
+#[test]
+fn a_frame_that_cannot_be_flattened_is_answered_with_an_error() {
+    let dir = common::scratch_dir("view_frames", "growing");
+    let path = dir.join("grow.aff");
+    std::fs::write(&path, GROWING).unwrap();
+    // The command line refuses that frame too.
+    let out = dir.join("frame2.png");
+    let run = common::nffrt(
+        &[
+            "render",
+            path.to_str().unwrap(),
+            "--frame",
+            "2",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert!(!run.status.success() && !out.exists());
+    let server = Server::start(&path, &[]);
+    let mut c = server.connect();
+    let scene = c.until_json("scene", |_| {});
+    let camera = &scene["camera"];
+    c.send(&frame_msg(camera, 16, 1, 2));
+    c.until_json("view", |_| {});
+    let e = c.until_json("error", |_| {});
+    let message = e["message"].as_str().unwrap();
+    assert!(
+        message.contains("frame 2") && message.contains("past the range"),
+        "{e}"
+    );
+    // The session goes on: frame 0 renders.
+    c.send(&frame_msg(camera, 16, 1, 0));
+    let gen = c.until_json("view", |_| {})["gen"].as_u64().unwrap();
+    c.until_complete(gen, |_| {});
+}

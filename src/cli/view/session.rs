@@ -56,9 +56,11 @@ struct Session {
 pub async fn run(mut socket: WebSocket, app: Arc<App>) {
     let (frames_tx, mut frames) = watch::channel::<Option<Arc<Frame>>>(None);
     let (maps_tx, mut maps) = tokio::sync::mpsc::unbounded_channel::<Arc<Frame>>();
+    let (failed_tx, mut failed) = tokio::sync::mpsc::unbounded_channel::<(u64, String)>();
     let outlets = Outlets {
         frames: frames_tx,
         maps: maps_tx,
+        failed: failed_tx,
     };
     let Ok(worker) = Worker::spawn(outlets, app.turns.clone()) else {
         return;
@@ -99,6 +101,12 @@ pub async fn run(mut socket: WebSocket, app: Arc<App>) {
             map = maps.recv() => match map {
                 // Maps of older generations are dropped, as frames are.
                 Some(m) if m.gen >= s.gen => vec![Reply::Binary(m.bytes.clone())],
+                Some(_) => vec![],
+                None => break,
+            },
+            failure = failed.recv() => match failure {
+                // As frames: a failure of an older generation is no longer news.
+                Some((gen, message)) if gen >= s.gen => vec![error(message)],
                 Some(_) => vec![],
                 None => break,
             },

@@ -104,6 +104,9 @@ pub struct Outlets {
     pub frames: watch::Sender<Option<Arc<Frame>>>,
     /// Error maps against the reference: every one is kept.
     pub maps: tokio::sync::mpsc::UnboundedSender<Arc<Frame>>,
+    /// Renders that could not start, by generation and why (a frame that cannot
+    /// be flattened): each is answered with an error.
+    pub failed: tokio::sync::mpsc::UnboundedSender<(u64, String)>,
 }
 
 /// A session's render thread.
@@ -270,11 +273,13 @@ fn frame(
 /// render in its turn.
 fn run(job: &Job, latest: &AtomicU64, turns: &Turns, out: &Outlets, shown: &Shown) {
     // The frame was checked; a frame that cannot be flattened (a transform that
-    // overflows at that time, say) renders nothing, as `nffrt render --frame` fails.
+    // overflows at that time, say) renders nothing, as `nffrt render --frame` fails,
+    // and the page is told why.
     let prepared = match job.loaded.prepared_frame(job.frame, &job.prepare) {
         Ok(scene) => scene,
         Err(e) => {
-            eprintln!("nffrt view: {e}");
+            // A page that has gone has no one to tell.
+            let _ = out.failed.send((job.gen, e));
             return;
         }
     };
