@@ -97,7 +97,7 @@ impl Bvh {
     /// box (or its piece's) inside the lane's, depth within the traversal stack.
     /// Returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
-        if self.depth > sah::MAX_TREE_DEPTH {
+        if self.depth > sah::MAX_QUERY_DEPTH {
             return Err(format!("depth {} exceeds the stack", self.depth));
         }
         // The wide leaves' blocks name each copy by its first one: count per name.

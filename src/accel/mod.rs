@@ -14,8 +14,9 @@
 //!   at run time (`avx`), the single-ray walks (`single` for the closest hit,
 //!   `occlusion`), the packets (`packet`) and the rule for ties (`nearest`).
 //!
-//! `bvh.rs` holds the structure and puts the stages together; `check.rs` validates it
-//! and measures it. The big arrays of the build and of the tree are allocated by
+//! `bvh.rs` holds the structure and puts the stages together; `graft.rs` puts two
+//! built trees under one root (an animation's fixed part, built once, and each
+//! frame's moving part); `check.rs` validates it and measures it. The big arrays of the build and of the tree are allocated by
 //! `crate::pages`, on huge pages where the system offers them.
 //!
 //! Beside the BVH, for the course's comparison of structures (`--accel`): a uniform
@@ -49,6 +50,7 @@ mod aggregate;
 mod build;
 mod bvh;
 mod check;
+mod graft;
 mod grid;
 mod leaf;
 mod linear;

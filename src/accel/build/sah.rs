@@ -34,9 +34,12 @@ pub const MAX_LEAF: usize = 8;
 /// by about `MAX_SAH_DEPTH + log2(n)` and so keeps traversal stacks small.
 const MAX_SAH_DEPTH: u32 = 32;
 /// The deepest a tree can be (root = 1): past [`MAX_SAH_DEPTH`] every split halves
-/// its primitives (fewer than 2^32) until one is left. Fixed-size traversal stacks
-/// are sized from it.
+/// its primitives (fewer than 2^32) until one is left.
 pub const MAX_TREE_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
+/// The deepest a queried tree can be: one the builder made, or two of them under
+/// the new root of a graft (`accel::graft`). Fixed-size traversal stacks are sized
+/// from it.
+pub const MAX_QUERY_DEPTH: u32 = MAX_TREE_DEPTH + 1;
 /// Subtrees over this many primitives are split between threads.
 pub const PARALLEL_ITEMS: usize = 4096;
 /// Nodes over this many times [`PARALLEL_ITEMS`] primitives, and over the share of

@@ -14,6 +14,7 @@ use proptest::prelude::*;
 
 mod brute;
 mod edges;
+mod graft;
 mod packets8;
 mod structures;
 mod watertight;

@@ -23,7 +23,7 @@ use wide::f32x8;
 use super::nearest::Nearest;
 use super::octant::{farthest, Octant, Octants, PacketBoxes, ALL};
 use super::wide::{Kernels, Portable, RayBoxes, WIDTH};
-use crate::accel::build::sah::MAX_TREE_DEPTH;
+use crate::accel::build::sah::MAX_QUERY_DEPTH;
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, TRI4_LEAF};
 use crate::accel::leaf::ray8::{Ray8, RAYS};
@@ -66,9 +66,9 @@ pub(super) struct Entry {
 }
 
 /// The most entries a packet walk stacks: fewer than [`WIDTH`] per level of the
-/// deepest tree the builder makes (a node stacks its children, the walk goes on
+/// deepest tree queried (a node stacks its children, the walk goes on
 /// with one of them and comes back to a level only once everything deeper is done).
-const STACK_ENTRIES: usize = WIDTH * (MAX_TREE_DEPTH as usize + 1);
+const STACK_ENTRIES: usize = WIDTH * (MAX_QUERY_DEPTH as usize + 1);
 
 /// A packet walk's fixed-size stack.
 pub(super) struct PacketStack(pub [Entry; STACK_ENTRIES]);
