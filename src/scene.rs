@@ -565,6 +565,19 @@ pub struct SceneInfo {
 }
 
 impl SceneInfo {
+    /// Counts `other`'s primitives in with this scene's (kinds, meshes, triangles,
+    /// bounds): the summary of a frame built from two parts.
+    pub fn include_counts(&mut self, other: &SceneInfo) {
+        for (count, (name, more)) in self.kind_counts.iter_mut().zip(&other.kind_counts) {
+            debug_assert_eq!(count.0, *name, "both summaries list the kinds in one order");
+            count.1 += more;
+        }
+        self.meshes += other.meshes;
+        self.mesh_triangles += other.mesh_triangles;
+        self.primitives += other.primitives;
+        self.bounds = self.bounds.union(other.bounds);
+    }
+
     /// The number of area lights.
     pub fn area_lights(&self) -> usize {
         self.lights.iter().filter(|l| l.area.is_some()).count()

@@ -10,7 +10,7 @@
 
 use super::error::AffError;
 use super::mesh::MeshGeometry;
-use super::scene::{AffScene, Location, Object, Shape};
+use super::scene::{AffScene, Location, NodeTransform, Object, Shape};
 use super::transform::Affine;
 use crate::math::Vec3;
 use crate::nff::{is_degenerate, ParseError, ParseErrorKind};
@@ -18,12 +18,32 @@ use crate::scene::{
     Cone, Dialect, Material, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning,
 };
 
+/// Which of a frame's objects [`AffScene::flatten_part`] places.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FramePart {
+    /// Every object shown at the time.
+    All,
+    /// The objects that never move: those under no keyframed transform (always
+    /// shown, and the same at every time).
+    Fixed,
+    /// The rest: objects under a keyframed transform, and the animated triangles.
+    Moving,
+}
+
 impl AffScene {
     /// The scene at time `t` (see [`AffScene::time_of_frame`]) in world space. An
     /// error, at the object or the camera block concerned, for a transform that
     /// overflows, a sphere or cone under a non-uniform scale, or a camera left
     /// without a direction.
     pub fn flatten(&self, t: f64) -> Result<Scene, AffError> {
+        self.flatten_part(t, FramePart::All)
+    }
+
+    /// [`AffScene::flatten`] keeping only the objects of `part`; the camera, lights
+    /// and materials are the frame's whatever the part, and the material table is
+    /// the same for every part and time (a textured mesh's material copy has one
+    /// index), so that a frame's fixed and moving parts can be built apart.
+    pub fn flatten_part(&self, t: f64, part: FramePart) -> Result<Scene, AffError> {
         let world = self.node_transforms(t);
         let shown = self.node_visibility(t);
         let mut out = Scene {
@@ -36,7 +56,13 @@ impl AffScene {
             warnings: self.plain_warnings(),
             ..Scene::default()
         };
-        let mut textured = TexturedMaterials::default();
+        let textured = self.textured_materials(&mut out.materials);
+        let moving = self.moving_nodes();
+        let wanted = |node: usize| match part {
+            FramePart::All => true,
+            FramePart::Fixed => !moving[node],
+            FramePart::Moving => moving[node],
+        };
         for (i, light) in self.nff.lights.iter().enumerate() {
             let mut light = *light;
             light.position = self.light_position_at(i, t, &world);
@@ -44,13 +70,13 @@ impl AffScene {
         }
         for object in &self.objects {
             let node = object.node as usize;
-            if shown[node] {
-                self.place(object, &world[node], &mut textured, &mut out)?;
+            if shown[node] && wanted(node) {
+                self.place(object, &world[node], &textured, &mut out)?;
             }
         }
         for tri in &self.animated_triangles {
             let node = tri.node as usize;
-            if !shown[node] {
+            if !shown[node] || part == FramePart::Fixed {
                 continue;
             }
             let (vertices, normals) = tri.at(t);
@@ -67,13 +93,39 @@ impl AffScene {
         Ok(out)
     }
 
+    /// Which nodes move: those under a keyframed transform (theirs or an
+    /// ancestor's), in node order.
+    pub fn moving_nodes(&self) -> Vec<bool> {
+        let mut moving: Vec<bool> = Vec::with_capacity(self.nodes.len());
+        for node in &self.nodes {
+            let own = matches!(node.transform, NodeTransform::Animated { .. });
+            moving.push(own || node.parent.is_some_and(|p| moving[p as usize]));
+        }
+        moving
+    }
+
+    /// The textured copies of materials every textured mesh needs, added to
+    /// `materials` in the order of the objects that first need them.
+    fn textured_materials(&self, materials: &mut Vec<Material>) -> TexturedMaterials {
+        let mut textured = TexturedMaterials::default();
+        for object in &self.objects {
+            if let Shape::Mesh(g) = object.shape {
+                let g = &self.meshes.geometries[g as usize];
+                if let (Some(texture), true) = (g.texture, g.uvs.count > 0) {
+                    textured.add(object.material, texture, materials);
+                }
+            }
+        }
+        textured
+    }
+
     /// Adds `object` under `m` to `out` (a textured mesh under its material's
-    /// textured copy, made in `textured` when first needed).
+    /// textured copy in `textured`).
     fn place(
         &self,
         object: &Object,
         m: &Affine,
-        textured: &mut TexturedMaterials,
+        textured: &TexturedMaterials,
         out: &mut Scene,
     ) -> Result<(), AffError> {
         let (mut material, line) = (object.material, object.at.line);
@@ -82,7 +134,7 @@ impl AffScene {
             Shape::Mesh(g) => {
                 let g = &self.meshes.geometries[g as usize];
                 if let (Some(texture), true) = (g.texture, g.uvs.count > 0) {
-                    material = textured.of(material, texture, &mut out.materials);
+                    material = textured.of(material, texture);
                 }
                 self.place_mesh(g, m, material, line, out)
             }
@@ -324,22 +376,27 @@ fn push_patch(out: &mut Scene, corners: Corners, material: u32, line: u32) {
     }
 }
 
-/// The textured copies of materials made for a frame: `(material, texture)` to the
-/// copy's index.
+/// The textured copies of materials: `(material, texture)` to the copy's index.
 #[derive(Default)]
 struct TexturedMaterials(std::collections::HashMap<(u32, u32), u32>);
 
 impl TexturedMaterials {
-    /// The index of `material` textured with `texture`, added to `materials` the
-    /// first time.
-    fn of(&mut self, material: u32, texture: u32, materials: &mut Vec<Material>) -> u32 {
-        *self.0.entry((material, texture)).or_insert_with(|| {
+    /// Adds a copy of `material` textured with `texture` to `materials`, unless
+    /// there is one.
+    fn add(&mut self, material: u32, texture: u32, materials: &mut Vec<Material>) {
+        self.0.entry((material, texture)).or_insert_with(|| {
             materials.push(Material {
                 texture: Some(texture),
                 ..materials[material as usize]
             });
             (materials.len() - 1) as u32
-        })
+        });
+    }
+
+    /// The index of `material` textured with `texture` (made by
+    /// [`TexturedMaterials::add`]).
+    fn of(&self, material: u32, texture: u32) -> u32 {
+        self.0[&(material, texture)]
     }
 }
 

@@ -63,6 +63,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 pub use error::AffError;
+pub use flatten::FramePart;
 pub use mesh::{MeshGeometry, MeshTriangle, Meshes, Span};
 pub use scene::{
     AffScene, AffWarning, AnimatedTriangle, AnimationSpan, FillMaterial, LightPlace, Location, Node,

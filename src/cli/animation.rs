@@ -1,25 +1,30 @@
 //! `nffrt render SCENE.aff --frames A..B -o out_%04d.png`: an animation's frames,
-//! each flattened at its time, built and rendered as a scene of its own (a
-//! per-frame rebuild), written whole to its own picture. The progress bar counts
-//! frames; the closing line splits the time into update (flatten and build) and
-//! render.
+//! each rendered at its time and written whole to its own picture. The objects
+//! under no keyframed transform (the fixed part) are flattened and built once;
+//! each frame flattens and builds only the rest, under one root with the fixed
+//! part (`prepare::prepare_frame`), unless `--rebuild-whole` asks for the whole
+//! scene every frame. The progress bar counts frames; the closing line splits the
+//! time into the fixed part, the per-frame update (flatten and build) and render.
 
 use std::time::Instant;
 
-use super::frames::{flatten, FrameJob};
+use super::frames::{flatten_part, FrameJob};
 use super::image_out::{display_name, format_of, Destination};
 use super::progress::Progress;
 use super::render::{prepare_options, progress_mode, render_error, resolve, written_encoding, RenderArgs};
 use super::{interrupt, CliError};
+use nffrt::aff::FramePart;
 use nffrt::image::{Region, SOFTWARE_TEXT};
 use nffrt::load::Loaded;
-use nffrt::prepare::prepare_with;
+use nffrt::prepare::{prepare_frame, prepare_with, FixedPart};
 use nffrt::render::{region_eye_rows, render_region};
 use nffrt::words::count;
 
-/// Seconds spent on the frames: flattening, building, rendering (and writing).
+/// Seconds spent on the frames: the fixed part (once), then per frame flattening,
+/// building, rendering (and writing).
 #[derive(Clone, Copy, Debug, Default)]
 struct Seconds {
+    fixed: f64,
     flatten: f64,
     build: f64,
     render: f64,
@@ -51,12 +56,29 @@ pub fn run(
     let mut seconds = Seconds::default();
     let mut rays = 0;
     let start = Instant::now();
+    let prepare = prepare_options(args);
+    let fixed = match args.frames.rebuild_whole {
+        true => None,
+        false => {
+            let scene = flatten_part(loaded, &jobs[0], FramePart::Fixed)?;
+            Some(pool.install(|| FixedPart::new(scene, &prepare)))
+        }
+    };
+    seconds.fixed = start.elapsed().as_secs_f64();
     for job in jobs {
         let t0 = Instant::now();
-        let scene = flatten(loaded, job)?;
+        let part = if fixed.is_some() {
+            FramePart::Moving
+        } else {
+            FramePart::All
+        };
+        let scene = flatten_part(loaded, job, part)?;
         let t1 = Instant::now();
         let output = Destination::create(&job.output)?;
-        let scene = pool.install(|| prepare_with(scene, &loaded.assets, &prepare_options(args)));
+        let scene = pool.install(|| match &fixed {
+            Some(fixed) => prepare_frame(fixed, scene, &loaded.assets, &prepare),
+            None => prepare_with(scene, &loaded.assets, &prepare),
+        });
         let t2 = Instant::now();
         interrupt::check()?;
         let rendered =
@@ -78,14 +100,15 @@ pub fn run(
         let total = start.elapsed().as_secs_f64();
         let (first, last) = (&jobs[0], &jobs[jobs.len() - 1]);
         eprintln!(
-            "rendered {} ({} .. {}) in {total:.2} s, {:.2} frames/s: flatten {:.2} s + build {:.2} s (update {:.1} %), render and write {:.2} s; {}, {}x{}, {}, {}",
+            "rendered {} ({} .. {}) in {total:.2} s, {:.2} frames/s: fixed part {:.2} s + flatten {:.2} s + build {:.2} s (update {:.1} %), render and write {:.2} s; {}, {}x{}, {}, {}",
             count(jobs.len(), "frame", "frames"),
             display_name(&first.output),
             display_name(&last.output),
             jobs.len() as f64 / total.max(1e-9),
+            seconds.fixed,
             seconds.flatten,
             seconds.build,
-            100.0 * (seconds.flatten + seconds.build) / total.max(1e-9),
+            100.0 * (seconds.fixed + seconds.flatten + seconds.build) / total.max(1e-9),
             seconds.render,
             count(rays as usize, "ray", "rays"),
             opts.width,

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::output::{refuse_overwriting, Named};
 use super::CliError;
-use nffrt::aff::AffScene;
+use nffrt::aff::{AffScene, FramePart};
 use nffrt::load::Loaded;
 
 /// Which frames of an animated scene to render (AFF scenes only).
@@ -32,6 +32,11 @@ pub struct FrameArgs {
     #[arg(long, value_name = "A..B", value_parser = frame_range,
           conflicts_with_all = ["region", "pixel", "stats", "stats_json"])]
     pub frames: Option<(u32, u32)>,
+    /// With --frames: flatten and build the whole scene for every frame, as a
+    /// comparison for benchmarks (default: the objects under no keyframed transform
+    /// are built once, and each frame builds only what moves).
+    #[arg(long, requires = "frames")]
+    pub rebuild_whole: bool,
 }
 
 impl FrameArgs {
@@ -214,11 +219,16 @@ pub fn plan(
 /// The scene of `loaded` (an AFF scene's) at `job`'s time: a frame that cannot be
 /// made (a sphere under a stretch, say) is a bad scene, named with its frame.
 pub fn flatten(loaded: &Loaded, job: &FrameJob) -> Result<nffrt::Scene, CliError> {
+    flatten_part(loaded, job, FramePart::All)
+}
+
+/// [`flatten`] keeping only the objects of `part`.
+pub fn flatten_part(loaded: &Loaded, job: &FrameJob, part: FramePart) -> Result<nffrt::Scene, CliError> {
     let aff = loaded
         .aff
         .as_deref()
         .expect("frames are planned for AFF scenes only");
-    aff.flatten(job.time)
+    aff.flatten_part(job.time, part)
         .map_err(|e| CliError::scene(format!("{}: {e}", job.name())))
 }
 

@@ -70,17 +70,65 @@ pub fn prepare(scene: Scene, assets: &Assets) -> RenderScene {
 
 /// Prepares `scene` with the files it names, `assets`, and the choices of `opts`.
 pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> RenderScene {
+    let (bvh, info, textures) = build(scene, opts);
+    assemble(bvh, info, textures, assets, opts)
+}
+
+/// Prepares the frame whose fixed part is `fixed` and whose other primitives, camera,
+/// lights and materials are `moving`'s (see [`FixedPart`]): only `moving`'s
+/// primitives are built, under one root with `fixed`'s. The same pictures as
+/// [`prepare_with`] of the whole frame.
+pub fn prepare_frame(
+    fixed: &FixedPart,
+    moving: Scene,
+    assets: &Assets,
+    opts: &PrepareOptions,
+) -> RenderScene {
+    let (bvh, mut info, textures) = build(moving, opts);
+    info.include_counts(&fixed.info);
+    assemble(Bvh::graft(&fixed.bvh, bvh), info, textures, assets, opts)
+}
+
+/// The part of an animated scene's frames that never moves, built once for all of
+/// them ([`prepare_frame`]).
+pub struct FixedPart {
+    bvh: Bvh,
+    info: SceneInfo,
+}
+
+impl FixedPart {
+    /// Builds the primitives of `scene` (its other settings are the frames').
+    pub fn new(scene: Scene, opts: &PrepareOptions) -> FixedPart {
+        let (bvh, info, _) = build(scene, opts);
+        FixedPart { bvh, info }
+    }
+}
+
+/// `scene`'s primitives built into a BVH, its summary and its textures (the scene's
+/// lists freed before the build: the memory peak).
+fn build(scene: Scene, opts: &PrepareOptions) -> (Bvh, SceneInfo, Vec<Arc<Texture>>) {
     let info = scene.info();
     let shutter = opts.shutter.unwrap_or(info.shutter);
     let geometry = build_geometry_for_shutter(&scene, shutter);
-    // The scene's lists freed here, before the build (the memory peak).
     let textures = {
         let mut scene = scene;
         std::mem::take(&mut scene.textures)
     };
+    (Bvh::new(geometry), info, textures)
+}
+
+/// The render-time scene of `bvh`, summarised by `info`, as `opts` choose.
+fn assemble(
+    bvh: Bvh,
+    info: SceneInfo,
+    textures: Vec<Arc<Texture>>,
+    assets: &Assets,
+    opts: &PrepareOptions,
+) -> RenderScene {
+    let shutter = opts.shutter.unwrap_or(info.shutter);
     let moving = info.has_moving_spheres();
     let lighting = Lighting::new(&info);
-    let accel = Aggregate::new(Bvh::new(geometry), opts.accel.or(info.accel).unwrap_or_default());
+    let accel = Aggregate::new(bvh, opts.accel.or(info.accel).unwrap_or_default());
     RenderScene {
         emitters: Emitters::new(&lighting.lights, accel.bvh(), &info.materials),
         lighting,
