@@ -19,9 +19,9 @@ use super::protocol::{AnimationMsg, CameraMsg, Counts};
 use crate::cli::limits::SceneLimitArgs;
 use crate::cli::load::{decoded_assets, load_scene_cancellable, Need};
 use crate::cli::CliError;
-use nffrt::aff::AffScene;
+use nffrt::aff::{AffError, AffScene, FramePart};
 use nffrt::load::Assets;
-use nffrt::prepare::{prepare, prepare_with, PrepareOptions, RenderScene};
+use nffrt::prepare::{prepare, prepare_frame, prepare_with, FixedPart, PrepareOptions, RenderScene};
 use nffrt::scene::Scene;
 
 /// The most frames whose cameras the scene message lists; a longer animation's
@@ -47,6 +47,9 @@ pub struct Loaded {
     /// The last frame asked for, flattened and prepared with those settings: the
     /// passes that refine a paused frame, and its ray trees, reuse it.
     frame: Mutex<Option<(u32, PrepareOptions, Arc<RenderScene>)>>,
+    /// An AFF scene's fixed part (the objects under no keyframed transform), built
+    /// once with the settings it was asked with: each frame builds only what moves.
+    fixed: Mutex<Option<(PrepareOptions, Arc<FixedPart>)>>,
     /// 0 for the first load, then one more for each successful reload.
     pub version: u64,
     /// What the scene holds.
@@ -152,12 +155,32 @@ impl Loaded {
             }
         }
         let time = aff.time_of_frame(n);
-        let flat = aff
-            .flatten(time)
-            .map_err(|e| format!("frame {n} (time {time}): {e}"))?;
-        let scene = Arc::new(prepare_with(flat, &self.parsed.1, &asked));
+        let failed = |e| format!("frame {n} (time {time}): {e}");
+        let fixed = self.fixed_part(aff, time, &asked).map_err(failed)?;
+        let moving = aff.flatten_part(time, FramePart::Moving).map_err(failed)?;
+        let scene = Arc::new(prepare_frame(&fixed, moving, &self.parsed.1, &asked));
         *kept = Some((n, asked, scene.clone()));
         Ok(scene)
+    }
+
+    /// The fixed part of `aff` built with `asked`, made (flattened at `time`: it is
+    /// the same at every time) the first time those settings are asked for.
+    fn fixed_part(
+        &self,
+        aff: &AffScene,
+        time: f64,
+        asked: &PrepareOptions,
+    ) -> Result<Arc<FixedPart>, AffError> {
+        let mut kept = self.fixed.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some((with, fixed)) = kept.as_ref() {
+            if with == asked {
+                return Ok(fixed.clone());
+            }
+        }
+        let scene = aff.flatten_part(time, FramePart::Fixed)?;
+        let fixed = Arc::new(FixedPart::new(scene, asked));
+        *kept = Some((*asked, fixed.clone()));
+        Ok(fixed)
     }
 }
 
@@ -208,6 +231,7 @@ impl Source {
             variant: Mutex::new(None),
             aff,
             frame: Mutex::new(None),
+            fixed: Mutex::new(None),
             version,
             counts,
             warnings,
