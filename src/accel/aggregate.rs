@@ -58,6 +58,11 @@ impl Aggregate {
         &self.bvh
     }
 
+    /// The BVH, the other structure dropped.
+    pub fn into_bvh(self) -> Bvh {
+        self.bvh
+    }
+
     /// The grid, when the structure is one.
     pub fn grid(&self) -> Option<&Grid> {
         match &self.structure {

@@ -51,6 +51,9 @@ pub struct Bvh {
     /// The kinds of leaf the queries look for (see [`leaf_kinds`]): each set they
     /// dispatch on has a copy of them compiled without the other kinds' tests.
     pub(super) kinds: u32,
+    /// 0, or the [`Rootstock`](super::graft::Rootstock) this tree was grafted onto:
+    /// its first entries are the stock's, which a later graft may keep.
+    pub(super) stock: u64,
     /// The AVX kernels, when the CPU has them (detected once, at build time).
     #[cfg(target_arch = "x86_64")]
     pub(super) avx: Option<Avx>,
@@ -138,6 +141,7 @@ impl Bvh {
             data,
             depth,
             kinds,
+            stock: 0,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
         }

@@ -1,8 +1,10 @@
-//! Two BVHs under one root ([`Bvh::graft`]): a scene's fixed part, built once, and
-//! the part that moves, built per frame, queried as one tree. An animation's frames
-//! (AFF) then rebuild only what moves: the fixed part's arrays are copied whole, the
-//! moving part's appended after them with its indices moved past the fixed part's,
-//! and a new root holds the two parts' roots.
+//! Two BVHs under one root: a scene's fixed part, built once ([`Rootstock`]), and
+//! the part that moves, built per frame, queried as one tree
+//! ([`Rootstock::graft`]). An animation's frames (AFF) then rebuild only what
+//! moves: the fixed part's arrays come first, the moving part's are appended after
+//! them with their indices moved past the fixed part's, and a new root holds the
+//! two parts' roots. A graft made in the arrays of the last one copies nothing of
+//! the fixed part.
 //!
 //! The grafted tree holds the same primitives, with the same vertices, as a tree
 //! built over both parts at once, and queries answer by the same rule (the nearest
@@ -10,20 +12,36 @@
 //! walks open differ. The moving part's ranks keep its source lines and come after
 //! the fixed part's among primitives of one line.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::build::sah::MAX_QUERY_DEPTH;
 use super::build::split::{Copies, Piece};
 use super::bvh::Bvh;
+use super::leaf::cone4::Cone4;
 use super::leaf::pack::{leaf_kinds, CONE4_LEAF, SPHERE4_LEAF, TRI4_LEAF};
-#[cfg(target_arch = "x86_64")]
-use super::traverse::avx::Avx;
+use super::leaf::sphere4::Sphere4;
+use super::leaf::tri4::Tri4;
 use super::traverse::wide::{Node8, EMPTY, MAX, MIN, WIDTH};
 use crate::geometry::{GeometryData, Primitive, Shape, Triangle};
 use crate::math::Aabb;
 
+/// A fixed part ready to take moving parts ([`Rootstock::graft`]): its tree under a
+/// new root whose first lane holds it, the second left for each moving part.
+#[derive(Clone, Debug)]
+pub struct Rootstock {
+    /// The fixed part's tree under the new root.
+    base: Bvh,
+    /// The low half of a rank past every fixed primitive's.
+    rank: u64,
+    /// Carried by the trees grafted onto this stock (`Bvh::stock`), so that one of
+    /// them can lend its arrays to the next graft.
+    id: u64,
+}
+
 /// How far the moving part's indices move: past the fixed part's entries of each array.
 #[derive(Clone, Copy)]
 struct Offsets {
-    /// Wide nodes (both parts also move one place for the new root).
+    /// Wide nodes (the new root and the fixed part's).
     node: u32,
     tri4: u32,
     sphere4: u32,
@@ -34,113 +52,150 @@ struct Offsets {
     normals: u32,
     /// Entries of [`GeometryData::polygon_points_2d`].
     points_2d: u32,
-    /// The low half of a rank: the fixed part's primitives as built.
+    /// The low half of a rank: past the fixed part's primitives as built.
     rank: u64,
 }
 
-impl Bvh {
-    /// `fixed` and `moving` as one tree (see the module docs).
-    pub fn graft(fixed: &Bvh, moving: Bvh) -> Bvh {
-        let depth = fixed.depth.max(moving.depth) + 1;
+/// The lane of the new root that holds the moving part.
+const MOVING_LANE: usize = 1;
+
+impl Rootstock {
+    /// `fixed` under a new root (see the module docs).
+    pub fn new(fixed: Bvh) -> Rootstock {
+        static STOCKS: AtomicU64 = AtomicU64::new(1);
+        let mut base = fixed;
+        let mut root = EMPTY;
+        if let Some(fixed_root) = base.wide.first() {
+            set_lane(&mut root, 0, node_bounds(fixed_root), 1);
+        }
+        let below = Offsets {
+            node: 1,
+            tri4: 0,
+            sphere4: 0,
+            cone4: 0,
+            bounded: 0,
+            normals: 0,
+            points_2d: 0,
+            rank: 0,
+        };
+        let nodes = std::mem::take(&mut base.wide);
+        base.wide = std::iter::once(root)
+            .chain(nodes.iter().map(|n| moved_node(n, below)))
+            .collect();
+        base.depth += 1;
+        let rank = base
+            .ranks
+            .iter()
+            .map(|r| (r & u64::from(u32::MAX)) + 1)
+            .max()
+            .unwrap_or(0);
+        let id = STOCKS.fetch_add(1, Ordering::Relaxed);
+        base.stock = id;
+        Rootstock { base, rank, id }
+    }
+
+    /// The fixed part and `moving` as one tree (see the module docs), made in the
+    /// arrays of `spare` when it is an earlier graft onto this stock (nothing of the
+    /// fixed part copied then), else in a copy of the stock's.
+    pub fn graft(&self, moving: Bvh, spare: Option<Bvh>) -> Bvh {
+        let base = &self.base;
+        let mut tree = match spare {
+            Some(tree) if tree.stock == self.id => tree,
+            _ => base.clone(),
+        };
+        let depth = base.depth.max(moving.depth + 1);
         debug_assert!(
             depth <= MAX_QUERY_DEPTH,
             "each part at most as deep as the builder makes"
         );
+        let fb = base.bounded;
         let moved = Offsets {
-            node: 1 + fixed.wide.len() as u32,
-            tri4: fixed.tri4.len() as u32,
-            sphere4: fixed.sphere4.len() as u32,
-            cone4: fixed.cone4.len() as u32,
-            bounded: fixed.bounded as u32,
-            normals: fixed.data.patch_normals.len() as u32,
-            points_2d: fixed.data.polygon_points_2d.len() as u32,
-            rank: fixed
-                .ranks
-                .iter()
-                .map(|r| (r & u64::from(u32::MAX)) + 1)
-                .max()
-                .unwrap_or(0),
+            node: base.wide.len() as u32,
+            tri4: base.tri4.len() as u32,
+            sphere4: base.sphere4.len() as u32,
+            cone4: base.cone4.len() as u32,
+            bounded: fb as u32,
+            normals: base.data.patch_normals.len() as u32,
+            points_2d: base.data.polygon_points_2d.len() as u32,
+            rank: self.rank,
         };
-        let wide = graft_nodes(fixed, &moving, moved);
-        let mut tri4 = fixed.tri4.clone();
-        tri4.extend(moving.tri4.iter().map(|b| {
-            let mut b = *b;
-            b.prim = b.prim.map(|p| moved_prim(p, moved));
-            b
-        }));
-        let mut sphere4 = fixed.sphere4.clone();
-        sphere4.extend(moving.sphere4.iter().map(|b| {
-            let mut b = *b;
-            b.prim = b.prim.map(|p| moved_prim(p, moved));
-            b
-        }));
-        let mut cone4 = fixed.cone4.clone();
-        cone4.extend(moving.cone4.iter().map(|b| {
-            let mut b = *b;
-            b.prim = b.prim.map(|p| moved_prim(p, moved));
-            b
-        }));
-        let (fb, mb) = (fixed.bounded, moving.bounded);
-        let mut primitives = Vec::with_capacity(fixed.primitives.len() + moving.primitives.len());
-        let mut ranks = Vec::with_capacity(primitives.capacity());
-        let moved_rank = |r: &u64| r + moved.rank;
-        // Bounded primitives in leaf order, the fixed part's first; then the unbounded.
-        primitives.extend_from_slice(&fixed.primitives[..fb]);
-        primitives.extend(moving.primitives[..mb].iter().map(|p| moved_primitive(p, moved)));
-        primitives.extend_from_slice(&fixed.primitives[fb..]);
-        primitives.extend(moving.primitives[mb..].iter().map(|p| moved_primitive(p, moved)));
-        ranks.extend_from_slice(&fixed.ranks[..fb]);
-        ranks.extend(moving.ranks[..mb].iter().map(moved_rank));
-        ranks.extend_from_slice(&fixed.ranks[fb..]);
-        ranks.extend(moving.ranks[mb..].iter().map(moved_rank));
-        let copies = graft_copies(fixed, &moving, moved);
-        let kinds = leaf_kinds::copy_for(&wide);
-        Bvh {
-            wide,
-            tri4,
-            sphere4,
-            cone4,
-            primitives,
-            ranks,
-            bounded: fb + mb,
-            copies,
-            data: graft_data(&fixed.data, &moving.data),
-            depth: if fb + mb == 0 { 0 } else { depth },
-            kinds,
-            #[cfg(target_arch = "x86_64")]
-            avx: Avx::detect(),
+        // Back to the fixed part's entries, then the moving part's appended (the
+        // unbounded primitives after the bounded ones, the fixed part's first).
+        tree.wide.truncate(base.wide.len());
+        tree.wide[0] = base.wide[0];
+        if let Some(root) = moving.wide.first() {
+            set_lane(&mut tree.wide[0], MOVING_LANE, node_bounds(root), moved.node);
         }
+        tree.wide.extend(moving.wide.iter().map(|n| moved_node(n, moved)));
+        append_blocks(&mut tree.tri4, base.tri4.len(), &moving.tri4, moved);
+        append_blocks(&mut tree.sphere4, base.sphere4.len(), &moving.sphere4, moved);
+        append_blocks(&mut tree.cone4, base.cone4.len(), &moving.cone4, moved);
+        let mb = moving.bounded;
+        let moved_rank = |r: &u64| r + moved.rank;
+        tree.primitives.truncate(fb);
+        tree.primitives
+            .extend(moving.primitives[..mb].iter().map(|p| moved_primitive(p, moved)));
+        tree.primitives.extend_from_slice(&base.primitives[fb..]);
+        tree.primitives
+            .extend(moving.primitives[mb..].iter().map(|p| moved_primitive(p, moved)));
+        tree.ranks.truncate(fb);
+        tree.ranks.extend(moving.ranks[..mb].iter().map(moved_rank));
+        tree.ranks.extend_from_slice(&base.ranks[fb..]);
+        tree.ranks.extend(moving.ranks[mb..].iter().map(moved_rank));
+        tree.copies = graft_copies(base, &moving, moved);
+        append_data(&mut tree.data, &base.data, &moving.data);
+        tree.bounded = fb + mb;
+        tree.depth = depth;
+        tree.kinds = leaf_kinds::copy_for(&tree.wide);
+        tree
     }
 }
 
-/// The new root, then `fixed`'s nodes, then `moving`'s, each child index moved.
-fn graft_nodes(fixed: &Bvh, moving: &Bvh, moved: Offsets) -> Vec<Node8> {
-    if fixed.bounded + moving.bounded == 0 {
-        return Vec::new();
+/// Sets lane `lane` of `node` to the box `b` around child node `child`.
+fn set_lane(node: &mut Node8, lane: usize, b: Aabb, child: u32) {
+    let (min, max) = (b.min.to_array(), b.max.to_array());
+    for axis in 0..3 {
+        node.bounds[MIN][axis][lane] = min[axis];
+        node.bounds[MAX][axis][lane] = max[axis];
     }
-    let mut wide = Vec::with_capacity(1 + fixed.wide.len() + moving.wide.len());
-    let mut root = EMPTY;
-    let parts = [(fixed, 1), (moving, moved.node)];
-    for (lane, (part, first)) in parts.into_iter().filter(|(p, _)| !p.wide.is_empty()).enumerate() {
-        let b = node_bounds(&part.wide[0]);
-        for axis in 0..3 {
-            root.bounds[MIN][axis][lane] = b.min.to_array()[axis];
-            root.bounds[MAX][axis][lane] = b.max.to_array()[axis];
+    node.child[lane] = child;
+    node.count[lane] = 0;
+}
+
+/// Blocks of a kind back to the fixed part's `fixed` first ones, then `moving`'s
+/// with their primitive indices moved.
+fn append_blocks<B: Copy + BlockPrims>(blocks: &mut Vec<B>, fixed: usize, moving: &[B], moved: Offsets) {
+    blocks.truncate(fixed);
+    blocks.extend(moving.iter().map(|b| {
+        let mut b = *b;
+        for p in b.prims_mut() {
+            *p = moved_prim(*p, moved);
         }
-        root.child[lane] = first;
+        b
+    }));
+}
+
+/// The primitive indices of a leaf block's lanes.
+trait BlockPrims {
+    fn prims_mut(&mut self) -> &mut [u32];
+}
+
+impl BlockPrims for Tri4 {
+    fn prims_mut(&mut self) -> &mut [u32] {
+        &mut self.prim
     }
-    wide.push(root);
-    let fixed_moved = Offsets {
-        node: 1,
-        tri4: 0,
-        sphere4: 0,
-        cone4: 0,
-        bounded: 0,
-        ..moved
-    };
-    wide.extend(fixed.wide.iter().map(|n| moved_node(n, fixed_moved)));
-    wide.extend(moving.wide.iter().map(|n| moved_node(n, moved)));
-    wide
+}
+
+impl BlockPrims for Sphere4 {
+    fn prims_mut(&mut self) -> &mut [u32] {
+        &mut self.prim
+    }
+}
+
+impl BlockPrims for Cone4 {
+    fn prims_mut(&mut self) -> &mut [u32] {
+        &mut self.prim
+    }
 }
 
 /// The box around every lane of `node`.
@@ -192,24 +247,20 @@ fn moved_primitive(p: &Primitive, moved: Offsets) -> Primitive {
     p
 }
 
-/// The two parts' geometry arrays, the moving part's after the fixed part's
+/// The geometry arrays back to the fixed part's, `fixed`, then `moving`'s after them
 /// (texture coordinates, kept parallel to the normals, filled with zeros for a part
 /// without them).
-fn graft_data(fixed: &GeometryData, moving: &GeometryData) -> GeometryData {
-    let uvs = if fixed.patch_uvs.is_empty() && moving.patch_uvs.is_empty() {
-        Vec::new()
-    } else {
-        let padded = |d: &GeometryData| {
-            let mut uvs = d.patch_uvs.clone();
-            uvs.resize(d.patch_normals.len(), [0.0; 2]);
-            uvs
-        };
-        [padded(fixed), padded(moving)].concat()
-    };
-    GeometryData {
-        polygon_points_2d: [&fixed.polygon_points_2d[..], &moving.polygon_points_2d].concat(),
-        patch_normals: [&fixed.patch_normals[..], &moving.patch_normals].concat(),
-        patch_uvs: uvs,
+fn append_data(data: &mut GeometryData, fixed: &GeometryData, moving: &GeometryData) {
+    data.polygon_points_2d.truncate(fixed.polygon_points_2d.len());
+    data.polygon_points_2d
+        .extend_from_slice(&moving.polygon_points_2d);
+    data.patch_normals.truncate(fixed.patch_normals.len());
+    data.patch_normals.extend_from_slice(&moving.patch_normals);
+    data.patch_uvs.truncate(fixed.patch_uvs.len());
+    if !(fixed.patch_uvs.is_empty() && moving.patch_uvs.is_empty()) {
+        data.patch_uvs.resize(fixed.patch_normals.len(), [0.0; 2]);
+        data.patch_uvs.extend_from_slice(&moving.patch_uvs);
+        data.patch_uvs.resize(data.patch_normals.len(), [0.0; 2]);
     }
 }
 

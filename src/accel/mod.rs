@@ -15,8 +15,9 @@
 //!   `occlusion`), the packets (`packet`) and the rule for ties (`nearest`).
 //!
 //! `bvh.rs` holds the structure and puts the stages together; `graft.rs` puts two
-//! built trees under one root (an animation's fixed part, built once, and each
-//! frame's moving part); `check.rs` validates it and measures it. The big arrays of the build and of the tree are allocated by
+//! built trees under one root (an animation's fixed part, built once, the
+//! [`Rootstock`], and each frame's moving part); `check.rs` validates it and
+//! measures it. The big arrays of the build and of the tree are allocated by
 //! `crate::pages`, on huge pages where the system offers them.
 //!
 //! Beside the BVH, for the course's comparison of structures (`--accel`): a uniform
@@ -62,6 +63,7 @@ pub use aggregate::Aggregate;
 pub use build::node::BvhNode;
 pub use bvh::Bvh;
 pub use check::BvhStats;
+pub use graft::Rootstock;
 pub use grid::{Grid, MAX_CELLS_PER_AXIS};
 pub use leaf::ray8::{Ray8, RayLanes};
 pub use tally::{QueryCounts, Tally};

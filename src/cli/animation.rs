@@ -65,6 +65,8 @@ pub fn run(
         }
     };
     seconds.fixed = start.elapsed().as_secs_f64();
+    // The last frame's tree, whose arrays the next frame's graft reuses.
+    let mut spare = None;
     for job in jobs {
         let t0 = Instant::now();
         let part = if fixed.is_some() {
@@ -76,7 +78,7 @@ pub fn run(
         let t1 = Instant::now();
         let output = Destination::create(&job.output)?;
         let scene = pool.install(|| match &fixed {
-            Some(fixed) => prepare_frame(fixed, scene, &loaded.assets, &prepare),
+            Some(fixed) => prepare_frame(fixed, scene, spare.take(), &loaded.assets, &prepare),
             None => prepare_with(scene, &loaded.assets, &prepare),
         });
         let t2 = Instant::now();
@@ -90,6 +92,9 @@ pub fn run(
             encoding,
             &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
         )?;
+        if fixed.is_some() {
+            spare = Some(scene.into_bvh());
+        }
         seconds.flatten += (t1 - t0).as_secs_f64();
         seconds.build += (t2 - t1).as_secs_f64();
         seconds.render += t2.elapsed().as_secs_f64();

@@ -27,7 +27,7 @@ pub use background::Background;
 pub use emitters::Emitters;
 pub use lighting::{LightQuad, LightSource, Lighting, Model};
 
-use crate::accel::{Aggregate, Bvh};
+use crate::accel::{Aggregate, Bvh, Rootstock};
 use crate::geometry::{build_geometry_for_shutter, Hit, Primitive};
 use crate::image::skybox::FaceError;
 use crate::image::Texture;
@@ -76,23 +76,26 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
 
 /// Prepares the frame whose fixed part is `fixed` and whose other primitives, camera,
 /// lights and materials are `moving`'s (see [`FixedPart`]): only `moving`'s
-/// primitives are built, under one root with `fixed`'s. The same pictures as
-/// [`prepare_with`] of the whole frame.
+/// primitives are built, under one root with `fixed`'s, in the arrays of `spare`
+/// when it is an earlier frame's tree on the same fixed part
+/// ([`RenderScene::into_bvh`]; nothing of the fixed part is copied then). The same
+/// pictures as [`prepare_with`] of the whole frame.
 pub fn prepare_frame(
     fixed: &FixedPart,
     moving: Scene,
+    spare: Option<Bvh>,
     assets: &Assets,
     opts: &PrepareOptions,
 ) -> RenderScene {
     let (bvh, mut info, textures) = build(moving, opts);
     info.include_counts(&fixed.info);
-    assemble(Bvh::graft(&fixed.bvh, bvh), info, textures, assets, opts)
+    assemble(fixed.stock.graft(bvh, spare), info, textures, assets, opts)
 }
 
 /// The part of an animated scene's frames that never moves, built once for all of
 /// them ([`prepare_frame`]).
 pub struct FixedPart {
-    bvh: Bvh,
+    stock: Rootstock,
     info: SceneInfo,
 }
 
@@ -100,7 +103,10 @@ impl FixedPart {
     /// Builds the primitives of `scene` (its other settings are the frames').
     pub fn new(scene: Scene, opts: &PrepareOptions) -> FixedPart {
         let (bvh, info, _) = build(scene, opts);
-        FixedPart { bvh, info }
+        FixedPart {
+            stock: Rootstock::new(bvh),
+            info,
+        }
     }
 }
 
@@ -166,6 +172,12 @@ impl RenderScene {
     /// The acceleration structure.
     pub fn accel(&self) -> &Aggregate {
         &self.accel
+    }
+
+    /// The scene's BVH, the rest dropped: a frame's tree handed to the next frame's
+    /// [`prepare_frame`] to build in.
+    pub fn into_bvh(self) -> Bvh {
+        self.accel.into_bvh()
     }
 
     /// The number of render-time primitives (polygons as the triangles they are cut

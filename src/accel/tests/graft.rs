@@ -1,10 +1,11 @@
-//! Two trees grafted under one root (`Bvh::graft`) answer every query as the tree
-//! built over both parts at once: the same hits (distance, barycentrics, and the
-//! surface and texture coordinates of the primitive hit, which read the moved
-//! geometry arrays), the same occlusion, in single rays and packets.
+//! Two trees grafted under one root (`Rootstock::graft`) answer every query as the
+//! tree built over both parts at once: the same hits (distance, barycentrics, and
+//! the surface and texture coordinates of the primitive hit, which read the moved
+//! geometry arrays), the same occlusion, in single rays and packets; a graft made in
+//! the arrays of an earlier one is the fresh graft's tree, entry for entry.
 
 use super::*;
-use crate::accel::{Aggregate, Coherence, Ray8};
+use crate::accel::{Aggregate, Coherence, Ray8, Rootstock};
 use crate::scene::{Accel, Patch, Plane};
 
 /// A part of a scene: the soup's spheres, triangles and cones, patches with normals
@@ -99,7 +100,14 @@ fn a_grafted_tree_answers_as_the_tree_of_both_parts() {
     let (fixed, moving) = (part(1500, 0x51, 1), part(900, 0x77, 2));
     let mut whole = fixed.clone();
     whole.append(moving.clone(), &mut |m| m);
-    let grafted = Bvh::graft(&bvh_of(&fixed), bvh_of(&moving));
+    let stock = Rootstock::new(bvh_of(&fixed));
+    // The arrays of a graft of another moving part lent to this one.
+    let other = stock.graft(bvh_of(&part(300, 0x99, 3)), None);
+    let grafted = stock.graft(bvh_of(&moving), Some(other));
+    assert_eq!(
+        format!("{grafted:?}"),
+        format!("{:?}", stock.graft(bvh_of(&moving), None))
+    );
     grafted.validate().unwrap();
     let whole = bvh_of(&whole);
     assert_eq!(grafted.primitive_count(), whole.primitive_count());
@@ -161,8 +169,8 @@ fn grafting_onto_or_from_an_empty_part_keeps_the_other() {
     let ray = Ray::new(Vec3::new(0.0, 0.0, -200.0), Vec3::new(0.0, 0.0, 1.0));
     let alone = bvh_of(&some);
     for grafted in [
-        Bvh::graft(&bvh_of(&empty), bvh_of(&some)),
-        Bvh::graft(&bvh_of(&some), bvh_of(&empty)),
+        Rootstock::new(bvh_of(&empty)).graft(bvh_of(&some), None),
+        Rootstock::new(bvh_of(&some)).graft(bvh_of(&empty), None),
     ] {
         grafted.validate().unwrap();
         assert_eq!(grafted.primitive_count(), alone.primitive_count());
@@ -171,7 +179,7 @@ fn grafting_onto_or_from_an_empty_part_keeps_the_other() {
             seen(&alone, &ray, alone.closest_hit(&ray, f32::INFINITY))
         );
     }
-    let none = Bvh::graft(&bvh_of(&empty), bvh_of(&empty));
+    let none = Rootstock::new(bvh_of(&empty)).graft(bvh_of(&empty), None);
     none.validate().unwrap();
     assert_eq!(none.closest_hit(&ray, f32::INFINITY), None);
 }

@@ -158,7 +158,12 @@ impl Loaded {
         let failed = |e| format!("frame {n} (time {time}): {e}");
         let fixed = self.fixed_part(aff, time, &asked).map_err(failed)?;
         let moving = aff.flatten_part(time, FramePart::Moving).map_err(failed)?;
-        let scene = Arc::new(prepare_frame(&fixed, moving, &self.parsed.1, &asked));
+        // The frame it replaces lends its arrays unless a render still holds it.
+        let spare = kept
+            .take()
+            .and_then(|(_, _, old)| Arc::try_unwrap(old).ok())
+            .map(RenderScene::into_bvh);
+        let scene = Arc::new(prepare_frame(&fixed, moving, spare, &self.parsed.1, &asked));
         *kept = Some((n, asked, scene.clone()));
         Ok(scene)
     }
