@@ -2,10 +2,11 @@
 //! each flattened at its time, built and rendered as a scene of its own (a
 //! per-frame rebuild), written whole to its own picture. The progress bar counts
 //! frames; the closing line splits the time into update (flatten and build) and
-//! render.
+//! render (with the AOVs and the denoiser, when asked for, and the writing).
 
 use std::time::Instant;
 
+use super::finish::Finishing;
 use super::frames::{flatten, FrameJob};
 use super::image_out::{display_name, format_of, Destination};
 use super::progress::Progress;
@@ -32,11 +33,6 @@ pub fn run(
     loaded: &Loaded,
     jobs: &[FrameJob],
 ) -> Result<(), CliError> {
-    if args.denoise.is_some() || !args.aov.is_empty() {
-        return Err(CliError::usage(
-            "--denoise and --aov: not with --frames yet (render a frame at a time with --frame N)",
-        ));
-    }
     let format = format_of(&jobs[0].output)?;
     // The settings of the first frame (its notes printed once); every frame has the
     // same size and sampling, whatever its camera.
@@ -45,6 +41,8 @@ pub fn run(
     let region = Region::full(opts.width, opts.height);
     let sized_by_flags = args.width.is_some() || args.height.is_some();
     args.limits.check(&opts, &region, sized_by_flags)?;
+    // The denoiser is opened once; each frame's AOV files open with its picture.
+    let finishing = Finishing::plan(args, &jobs[0].output, format, &opts, pool.current_num_threads())?;
     let rows = region_eye_rows(&opts, &region);
     let progress = Progress::frames(rows, jobs.len() as u64, progress_mode(args));
     let limits = args.limits.render_limits();
@@ -56,18 +54,17 @@ pub fn run(
         let scene = flatten(loaded, job)?;
         let t1 = Instant::now();
         let output = Destination::create(&job.output)?;
+        let finish = finishing.open(&job.output)?;
         let scene = pool.install(|| prepare_with(scene, &loaded.assets, &prepare_options(args)));
         let t2 = Instant::now();
         interrupt::check()?;
         let rendered =
             pool.install(|| render_region(&scene, scene.view(), &opts, &region, &limits, &progress));
         let (image, stats) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
-        output.write_image(
-            &image,
-            format,
-            encoding,
-            &[(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())],
-        )?;
+        interrupt::check()?;
+        let finished = pool.install(|| finish.run(&scene, &opts, &limits, image, format, encoding))?;
+        let text = [(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
+        finished.write(output, format, encoding, &text)?;
         seconds.flatten += (t1 - t0).as_secs_f64();
         seconds.build += (t2 - t1).as_secs_f64();
         seconds.render += t2.elapsed().as_secs_f64();

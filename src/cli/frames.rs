@@ -6,10 +6,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use super::finish::beside_path;
 use super::output::{refuse_overwriting, Named};
 use super::CliError;
 use nffrt::aff::AffScene;
 use nffrt::load::Loaded;
+use nffrt::render::Aov;
 
 /// Which frames of an animated scene to render (AFF scenes only).
 #[derive(Args, Debug, Clone, Default)]
@@ -153,12 +155,14 @@ impl OutputPattern {
 /// given, or `None` for the default), or `None` without frame options (a render of
 /// frame 0 as of old). Refused: frame options on a scene that is not AFF, a frame
 /// past the animation, more than one frame to a name without a field, and a name
-/// that is one of the scene's files (the scene, its includes, its textures).
+/// that is one of the scene's files (the scene, its includes, its textures), the
+/// names of the `aovs` files beside each picture included.
 pub fn plan(
     args: &FrameArgs,
     loaded: &Loaded,
     scene_path: &Path,
     output: Option<&Path>,
+    aovs: &[Aov],
 ) -> Result<Option<Vec<FrameJob>>, CliError> {
     if !args.any() {
         return Ok(None);
@@ -207,7 +211,7 @@ pub fn plan(
             output: pattern.expand(number.unwrap_or(0)),
         })
         .collect();
-    refuse_inputs(&jobs, aff, scene_path)?;
+    refuse_inputs(&jobs, aovs, aff, scene_path)?;
     Ok(Some(jobs))
 }
 
@@ -250,7 +254,7 @@ fn default_pattern(scene: &Path, several: bool) -> String {
 }
 
 /// Refuses a picture that would overwrite one of the files the scene was read from.
-fn refuse_inputs(jobs: &[FrameJob], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
+fn refuse_inputs(jobs: &[FrameJob], aovs: &[Aov], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
     let mut inputs: Vec<(&Path, &str)> = vec![(scene_path, "the scene file")];
     inputs.extend(
         aff.files
@@ -264,11 +268,16 @@ fn refuse_inputs(jobs: &[FrameJob], aff: &AffScene, scene_path: &Path) -> Result
             .map(|t| (t.path.as_path(), "a texture of the scene")),
     );
     for job in jobs {
+        let beside: Vec<PathBuf> = aovs.iter().map(|&a| beside_path(&job.output, a)).collect();
         let named = Named {
             path: &job.output,
             named: format!("the picture {}", job.output.display()),
         };
-        refuse_overwriting(&[named], &inputs)?;
+        let beside = beside.iter().map(|path| Named {
+            path,
+            named: format!("the AOV picture {}", path.display()),
+        });
+        refuse_overwriting(&std::iter::once(named).chain(beside).collect::<Vec<_>>(), &inputs)?;
     }
     Ok(())
 }
