@@ -1,6 +1,8 @@
 //! `nffrt render SCENE.aff --frames A..B -o out_%04d.png`: an animation's frames,
 //! each flattened at its time, built and rendered as a scene of its own (a
-//! per-frame rebuild), written whole to its own picture. The progress bar counts
+//! per-frame rebuild), written whole to its own picture. With `--motion-blur K`,
+//! each frame is the mean of K sub-frames over its interval, each flattened, built
+//! and rendered so (an accumulation buffer). The progress bar counts
 //! frames; the closing line splits the time into update (flatten and build) and
 //! render (with the AOVs and the denoiser, when asked for, and the writing).
 
@@ -12,7 +14,7 @@ use super::image_out::{display_name, format_of, Destination};
 use super::progress::Progress;
 use super::render::{prepare_options, progress_mode, render_error, resolve, written_encoding, RenderArgs};
 use super::{interrupt, CliError};
-use nffrt::image::{Region, SOFTWARE_TEXT};
+use nffrt::image::{Accumulator, Region, SOFTWARE_TEXT};
 use nffrt::load::Loaded;
 use nffrt::prepare::prepare_with;
 use nffrt::render::{region_eye_rows, render_region};
@@ -26,7 +28,19 @@ struct Seconds {
     render: f64,
 }
 
-/// Renders `jobs` (two frames or more) of `loaded` as `args` say, on `pool`.
+/// The times of the `k` sub-frames of the frame shown at `t` (see
+/// [`nffrt::aff::AffScene::subframe_times`]); planned for animated AFF scenes only.
+fn subframe_times(loaded: &Loaded, t: f64, k: u32) -> Vec<f64> {
+    let aff = loaded
+        .aff
+        .as_deref()
+        .expect("frames are planned for AFF scenes only");
+    aff.subframe_times(t, k)
+        .expect("--motion-blur is planned for animated scenes only")
+}
+
+/// Renders `jobs` (two frames or more, or frames blurred by `--motion-blur`) of
+/// `loaded` as `args` say, on `pool`.
 pub fn run(
     args: &RenderArgs,
     pool: &rayon::ThreadPool,
@@ -44,41 +58,73 @@ pub fn run(
     // The denoiser is opened once; each frame's AOV files open with its picture.
     let finishing = Finishing::plan(args, &jobs[0].output, format, &opts, pool.current_num_threads())?;
     let rows = region_eye_rows(&opts, &region);
-    let progress = Progress::frames(rows, jobs.len() as u64, progress_mode(args));
+    let subframes = args.frames.motion_blur.unwrap_or(1);
+    let progress = Progress::frames(rows * subframes as u64, jobs.len() as u64, progress_mode(args));
     let limits = args.limits.render_limits();
     let mut seconds = Seconds::default();
     let mut rays = 0;
     let start = Instant::now();
     for job in jobs {
-        let t0 = Instant::now();
-        let scene = flatten(loaded, job)?;
-        let t1 = Instant::now();
         let output = Destination::create(&job.output)?;
         let finish = finishing.open(&job.output)?;
-        let scene = pool.install(|| prepare_with(scene, &loaded.assets, &prepare_options(args)));
-        let t2 = Instant::now();
+        // The frame's moments: its time, or the middles of its interval's parts.
+        let times = match args.frames.motion_blur {
+            Some(k) => subframe_times(loaded, job.time, k),
+            None => vec![job.time],
+        };
+        let mut sum = Accumulator::new();
+        let mut last = None;
+        for time in times {
+            let t0 = Instant::now();
+            let scene = flatten(loaded, &FrameJob { time, ..job.clone() })?;
+            let t1 = Instant::now();
+            let scene = pool.install(|| prepare_with(scene, &loaded.assets, &prepare_options(args)));
+            let t2 = Instant::now();
+            interrupt::check()?;
+            let rendered =
+                pool.install(|| render_region(&scene, scene.view(), &opts, &region, &limits, &progress));
+            let (image, stats) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
+            sum.add(image);
+            rays += stats.total_rays();
+            seconds.flatten += (t1 - t0).as_secs_f64();
+            seconds.build += (t2 - t1).as_secs_f64();
+            seconds.render += t2.elapsed().as_secs_f64();
+            last = Some(scene);
+        }
+        let t3 = Instant::now();
+        let (image, scene) = (sum.mean(), last);
+        let (Some(image), Some(scene)) = (image, scene) else {
+            unreachable!("a frame has one moment at least");
+        };
         interrupt::check()?;
-        let rendered =
-            pool.install(|| render_region(&scene, scene.view(), &opts, &region, &limits, &progress));
-        let (image, stats) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
-        interrupt::check()?;
+        // --denoise and --aov (never with --motion-blur): the frame's one scene.
         let finished = pool.install(|| finish.run(&scene, &opts, &limits, image, format, encoding))?;
         let text = [(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
         finished.write(output, format, encoding, &text)?;
-        seconds.flatten += (t1 - t0).as_secs_f64();
-        seconds.build += (t2 - t1).as_secs_f64();
-        seconds.render += t2.elapsed().as_secs_f64();
-        rays += stats.total_rays();
+        seconds.render += t3.elapsed().as_secs_f64();
     }
     progress.finish();
     if !args.quiet {
         let total = start.elapsed().as_secs_f64();
         let (first, last) = (&jobs[0], &jobs[jobs.len() - 1]);
+        let pictures = match jobs {
+            [one] => display_name(&one.output),
+            _ => format!(
+                "{} .. {}",
+                display_name(&first.output),
+                display_name(&last.output)
+            ),
+        };
+        let blur = match args.frames.motion_blur {
+            Some(k) => format!(
+                ", each the mean of {}",
+                count(k as usize, "sub-frame", "sub-frames")
+            ),
+            None => String::new(),
+        };
         eprintln!(
-            "rendered {} ({} .. {}) in {total:.2} s, {:.2} frames/s: flatten {:.2} s + build {:.2} s (update {:.1} %), render and write {:.2} s; {}, {}x{}, {}, {}",
+            "rendered {}{blur} ({pictures}) in {total:.2} s, {:.2} frames/s: flatten {:.2} s + build {:.2} s (update {:.1} %), render and write {:.2} s; {}, {}x{}, {}, {}",
             count(jobs.len(), "frame", "frames"),
-            display_name(&first.output),
-            display_name(&last.output),
             jobs.len() as f64 / total.max(1e-9),
             seconds.flatten,
             seconds.build,

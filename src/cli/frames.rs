@@ -1,6 +1,7 @@
 //! The frames of an animated (AFF) scene that `nffrt render` renders: `--frame N`,
-//! `--time T` or `--frames A..B`, and the printf-style output pattern that names
-//! each frame's picture (`out_%04d.png`). Without them a render shows frame 0.
+//! `--time T` or `--frames A..B`, the printf-style output pattern that names each
+//! frame's picture (`out_%04d.png`), and `--motion-blur K`, each frame the mean of K
+//! sub-frames over its interval. Without them a render shows frame 0.
 
 use std::path::{Path, PathBuf};
 
@@ -10,6 +11,7 @@ use super::finish::beside_path;
 use super::output::{refuse_overwriting, Named};
 use super::CliError;
 use nffrt::aff::AffScene;
+use nffrt::limits::MAX_MOTION_BLUR_SUBFRAMES;
 use nffrt::load::Loaded;
 use nffrt::render::Aov;
 
@@ -34,20 +36,30 @@ pub struct FrameArgs {
     #[arg(long, value_name = "A..B", value_parser = frame_range,
           conflicts_with_all = ["region", "pixel", "stats", "stats_json"])]
     pub frames: Option<(u32, u32)>,
+    #[arg(long, value_name = "K", allow_negative_numbers = true,
+          help = format!("Motion blur across each frame's interval (an AFF scene's): the frame shown at \
+                          time t is the mean, in linear floats, of K sub-frames flattened at t + (i + 0.5) \
+                          / K * STEP (STEP the time between frames), an accumulation buffer; 1 to \
+                          {MAX_MOTION_BLUR_SUBFRAMES}. With --frame, --time, --frames or alone (frame 0); \
+                          not with --region, --pixel, --stats, --stats-json, --denoise or --aov"),
+          value_parser = super::values::whole_number::<u32>(1, MAX_MOTION_BLUR_SUBFRAMES as u64),
+          conflicts_with_all = ["region", "pixel", "stats", "stats_json", "denoise", "aov"])]
+    pub motion_blur: Option<u32>,
 }
 
 impl FrameArgs {
     /// True if any of the options is given.
     pub fn any(&self) -> bool {
-        self.frame.is_some() || self.time.is_some() || self.frames.is_some()
+        self.frame.is_some() || self.time.is_some() || self.frames.is_some() || self.motion_blur.is_some()
     }
 
     /// The flag given, for messages.
     fn flag(&self) -> &'static str {
-        match (self.frame, self.time) {
-            (Some(_), _) => "--frame",
-            (_, Some(_)) => "--time",
-            _ => "--frames",
+        match (self.frame, self.time, self.frames) {
+            (Some(_), _, _) => "--frame",
+            (_, Some(_), _) => "--time",
+            (_, _, Some(_)) => "--frames",
+            _ => "--motion-blur",
         }
     }
 }
@@ -72,6 +84,7 @@ fn frame_range(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// One frame to render: its number (none for `--time`), its time, and its picture.
+/// (With `--motion-blur`, the time the frame's interval starts at.)
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameJob {
     /// The frame's number.
@@ -179,8 +192,15 @@ pub fn plan(
         (Some(n), _, _) => vec![Some(n)],
         (_, Some(_), _) => vec![None],
         (_, _, Some((a, b))) => (a..=b).map(Some).collect(),
-        _ => unreachable!("one option is given"),
+        // --motion-blur alone: frame 0, as a render without frame options.
+        _ => vec![Some(0)],
     };
+    if args.motion_blur.is_some() && aff.span.is_none() {
+        return Err(CliError::usage(format!(
+            "--motion-blur: {} has no animation (`a START END FRAMES`), so its one frame has no interval to blur over",
+            loaded.name
+        )));
+    }
     let last = aff.frames() - 1;
     if let Some(n) = numbers.iter().flatten().find(|&&n| n > last) {
         return Err(CliError::usage(format!(

@@ -336,12 +336,13 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let aovs = super::finish::asked_aovs(&args);
     match frames::plan(&args.frames, &loaded, &args.scene, args.output.as_deref(), &aovs)?.as_deref() {
         None => {}
-        Some([one]) => {
+        Some([one]) if args.frames.motion_blur.is_none() => {
             loaded.scene = frames::flatten(&loaded, one)?;
             // A tile records the time it shows: tiles of two frames never merge.
             loaded.fingerprint = loaded.fingerprint.map(|f| frames::fingerprint_at(f, one.time));
             out_path = one.output.clone();
         }
+        // Several frames, or one blurred over its interval.
         Some(several) => return animation::run(&args, &pool, &loaded, several),
     }
     let info = loaded.scene.info();
