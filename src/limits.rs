@@ -48,6 +48,9 @@ pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
 /// The most worker threads a caller may ask for.
 pub const MAX_THREADS: u32 = 1024;
 
+/// The most sub-frames `--motion-blur` averages into one frame of an animation.
+pub const MAX_MOTION_BLUR_SUBFRAMES: u32 = 1024;
+
 // Defaults.
 
 /// The default maximum ray-tree depth (the SPD's).

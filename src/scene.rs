@@ -41,7 +41,8 @@ pub struct Material {
     /// reflect the ambient light by the diffuse colour.
     pub ambient: Vec3,
     /// The texture (an index into [`Scene::textures`]) whose texel at each hit
-    /// multiplies what the surface sends back (AFF's textured meshes); `None` for
+    /// multiplies what the surface sends back under Whitted's rules, its diffuse
+    /// albedo in the path tracer (AFF's textured meshes); `None` for
     /// a plain colour.
     pub texture: Option<u32>,
 }

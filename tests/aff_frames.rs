@@ -8,7 +8,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{nffrt, scratch_dir, skip::shared};
+use common::{nffrt, nffrt_ok, scratch_dir, skip::shared};
 use nffrt::image::decode_ppm;
 
 /// A white sphere of radius 0.2 (shown by the ambient light alone) on a black
@@ -26,16 +26,6 @@ fn ball_dir(test: &str) -> PathBuf {
     let dir = scratch_dir("aff_frames", test);
     std::fs::write(dir.join("ball.aff"), BALL).unwrap();
     dir
-}
-
-fn run_ok(args: &[&str]) {
-    let out = nffrt(args, b"");
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 /// The mean column and row of the pixels brighter than half grey in a PPM.
@@ -66,7 +56,7 @@ fn a_keyed_spheres_centre_follows_its_keys() {
     let dir = ball_dir("follows");
     let scene = dir.join("ball.aff");
     let pattern = dir.join("f_%02d.ppm");
-    run_ok(&[
+    nffrt_ok(&[
         "render",
         scene.to_str().unwrap(),
         "--frames",
@@ -86,7 +76,7 @@ fn a_keyed_spheres_centre_follows_its_keys() {
     }
     // --frame and --time show the same pictures as --frames.
     let one = dir.join("one.ppm");
-    run_ok(&[
+    nffrt_ok(&[
         "render",
         scene.to_str().unwrap(),
         "--frame",
@@ -96,7 +86,7 @@ fn a_keyed_spheres_centre_follows_its_keys() {
         "-q",
     ]);
     let at = dir.join("at.ppm");
-    run_ok(&[
+    nffrt_ok(&[
         "render",
         scene.to_str().unwrap(),
         "--time",
@@ -124,7 +114,7 @@ fn frames_are_the_same_bytes_on_one_and_two_threads() {
             "--threads",
             threads,
         ];
-        run_ok(&[&args[..], &["-o", pattern.to_str().unwrap(), "-q"]].concat());
+        nffrt_ok(&[&args[..], &["-o", pattern.to_str().unwrap(), "-q"]].concat());
     }
     for n in 1..=2 {
         let a = std::fs::read(dir.join(format!("t1_{n}.png"))).unwrap();
@@ -177,26 +167,6 @@ fn bad_frame_requests_are_refused() {
         "cannot be used with",
     );
     refused(&["render", scene, "--time", "inf"], "finite");
-    let frames = dir.join("den_%d.png");
-    for extra in [["--denoise", "--spp"], ["--aov", "albedo"]] {
-        let mut args = vec![
-            "render",
-            scene,
-            "--frames",
-            "0..1",
-            "-o",
-            frames.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        if extra[0] == "--denoise" {
-            args.push("4");
-        }
-        refused(&args, "not with --frames yet");
-    }
-    assert!(
-        !dir.join("den_0.png").exists(),
-        "nothing is written before the refusal"
-    );
     refused(
         &[
             "render",
@@ -264,7 +234,7 @@ fn barts_scenes_render_frames_that_move_and_are_not_flat() {
                 "96",
                 "-q",
             ];
-            run_ok(&[&args[..], &["-o", out.to_str().unwrap()]].concat());
+            nffrt_ok(&[&args[..], &["-o", out.to_str().unwrap()]].concat());
             let png = std::fs::read(&out).unwrap();
             let s = spread(&png);
             assert!(
@@ -324,7 +294,7 @@ fn frames_built_on_the_fixed_part_are_the_whole_rebuilds_bytes() {
                     "-o",
                     pattern.to_str().unwrap(),
                 ];
-                run_ok(&[&args[..], extra].concat());
+                nffrt_ok(&[&args[..], extra].concat());
             };
             render("fixed", &[]);
             render("whole", &["--rebuild-whole"]);

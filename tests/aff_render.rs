@@ -1,5 +1,6 @@
 //! AFF scenes rendered: textures sampled as BART's original renderer samples them
-//! and `fm` shaded by its rules, checked against pixel values computed by hand.
+//! and `fm` shaded by its rules, checked against pixel values computed by hand; the
+//! path tracer's diffuse albedo multiplied by the texel.
 
 mod common;
 
@@ -8,10 +9,10 @@ use std::path::Path;
 use common::scratch_dir;
 use nffrt::image::Image;
 use nffrt::load::{load, LoadOptions, Source};
-use nffrt::options::RenderOptions;
+use nffrt::options::{RenderOptions, Sampling};
 use nffrt::prepare::{prepare_with, PrepareOptions};
 use nffrt::render::render;
-use nffrt::scene::Accel;
+use nffrt::scene::{Accel, IntegratorKind};
 
 /// A 5 x 5 binary PPM whose texel (x, y) (column, row from the top) is
 /// `(60 x, 60 y, 255 at (1, 1) else 0)`.
@@ -126,4 +127,30 @@ fn fill_materials_shade_with_their_ambient_diffuse_and_specular_colours() {
                 p 4 -1 -1 0  1 -1 0  1 1 0  -1 1 0\n";
     let got = render_aff(&dir, text);
     assert_eq!(got[4], [217, 166, 115]);
+}
+
+/// The path tracer multiplies a textured surface's diffuse albedo by its texel: the
+/// ramp quad, white `fm` diffuse and nothing else, under a white sky (`b 1 1 1`)
+/// and no light. Each camera ray meets the quad, and its one bounce leaves the
+/// plane for the sky: a Lambertian sample's weight is its albedo exactly (f cos /
+/// pdf), so a pixel is its texel times 1, the values [`expected`] gives (the
+/// pixel centres: one sample each). Without the texel every pixel would be white.
+#[test]
+fn the_path_tracer_shows_the_texels_in_the_diffuse_albedo() {
+    let dir = scratch_dir("aff_render", "path");
+    std::fs::write(dir.join("ramp.ppm"), ramp_ppm()).unwrap();
+    let path = dir.join("scene.aff");
+    let head = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 17.0615312199 hither 1 resolution 4 4\n\
+                b 1 1 1\nfm 0 0 0  1 1 1  0 0 0  1 0 1\n";
+    std::fs::write(&path, format!("{head}{QUAD}")).unwrap();
+    let loaded = load(Source::File(&path), &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let scene = prepare_with(loaded.scene, &loaded.assets, &PrepareOptions::default());
+    let opts = RenderOptions {
+        integrator: IntegratorKind::Path,
+        sampling: Sampling::PixelCenters,
+        ..RenderOptions::from_view(scene.view())
+    };
+    let (image, _): (Image, _) = render(&scene, scene.view(), &opts).unwrap();
+    let got: Vec<[u8; 3]> = image.to_rgb8().chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    assert_shows_the_ramp(&got);
 }

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{nffrt, nffrt_env, scratch_dir, skip};
+use common::{denoiser_installed, nffrt, nffrt_env, scratch_dir};
 use nffrt::image::{decode_exr_channels, decode_pfm, decode_png};
 
 /// A red sphere of radius 1 at the origin seen from z = 5 on a blue background:
@@ -34,19 +34,6 @@ fn pfm(path: &std::path::Path) -> Vec<f32> {
 fn rmse(a: &[f32], b: &[f32]) -> f64 {
     let sum: f64 = a.iter().zip(b).map(|(x, y)| ((x - y) as f64).powi(2)).sum();
     (sum / a.len() as f64).sqrt()
-}
-
-/// True if Open Image Denoise is found as `nffrt render --denoise` looks for it;
-/// otherwise says the check is skipped (a failure under NFFRT_REQUIRE_OIDN=1).
-fn denoiser_installed() -> bool {
-    if nffrt::denoise::Denoiser::open(&[], 1).is_ok() {
-        return true;
-    }
-    skip::skip_unless_required(
-        "NFFRT_REQUIRE_OIDN",
-        "Open Image Denoise is not installed (pip install pyoidn, or NFFRT_OIDN)",
-    );
-    false
 }
 
 #[test]

@@ -1,4 +1,5 @@
-//! The wavefront path tracer against the scalar one: every example scene, and the
+//! The wavefront path tracer against the scalar one: every example scene, textured
+//! AFF surfaces (a small scene, and the kitchen), and the
 //! course's path-traced ones where `../shared` has them, rendered both ways. A
 //! render traces its paths in queues and its rays in packets; `--pixel` traces each
 //! sample's path alone, one query at a time, reporting every event (the reference
@@ -17,7 +18,7 @@ use nffrt::render::debug::trace_pixel;
 use nffrt::render::{render, Stats};
 use nffrt::scene::IntegratorKind;
 
-/// The scene of `path` (NFF or P3F by its extension), prepared.
+/// The scene of `path` (NFF, P3F or AFF by its extension; AFF: its frame 0), prepared.
 fn scene(path: &Path) -> RenderScene {
     let loaded = load(Source::File(path), &LoadOptions::default())
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -79,5 +80,44 @@ fn the_course_scenes_render_the_same_in_queues_as_path_by_path() {
             return;
         };
         assert_both_ways_agree(&scene(&path), name);
+    }
+}
+
+/// A 4 x 4 texture of strong, different colours (texel (x, y): 80 x, 80 y, 255 -
+/// 80 (x + y) / 2).
+fn checker_ppm() -> Vec<u8> {
+    let mut bytes = b"P6\n4 4\n255\n".to_vec();
+    for y in 0..4u8 {
+        for x in 0..4u8 {
+            bytes.extend([80 * x, 80 * y, 255 - 40 * (x + y)]);
+        }
+    }
+    bytes
+}
+
+#[test]
+fn textured_aff_surfaces_render_the_same_in_queues_as_path_by_path() {
+    // A textured floor (a mesh with texture coordinates past 1, which wrap) and a
+    // textured wall (`tt` triangles) under a point light, with an untextured mirror
+    // ball and a matte one of the same material as the floor: textured and plain
+    // vertices of one material in the same queues.
+    let dir = common::scratch_dir("wavefront", "textured");
+    std::fs::write(dir.join("checker.ppm"), checker_ppm()).unwrap();
+    let text = "v from 0 2 6 at 0 0 0 up 0 1 0 angle 45 hither 0.1 resolution 40 30\n\
+                b 0.2 0.3 0.4\nl 2 4 3\n\
+                fm 0 0 0  0.8 0.8 0.8  0.1 0.1 0.1  10 0 1\n\
+                m vertices 4  -3 -1 -3  3 -1 -3  3 -1 3  -3 -1 3\n\
+                texturecoords 4 checker.ppm  0 0  3 0  3 3  0 3\n\
+                triangles 2  0 1 2  0 1 2   0 2 3  0 2 3\n\
+                s -1 0 0 0.8\n\
+                tt checker.ppm -3 -1 -2 0 1   3 -1 -2 1 1   3 3 -2 1 0\n\
+                tt checker.ppm -3 -1 -2 0 1   3 3 -2 1 0   -3 3 -2 0 0\n\
+                fm 0 0 0  0 0 0  0.9 0.9 0.9  50 0 1\n\
+                s 1.2 0 0.5 0.7\n";
+    let path = dir.join("textured.aff");
+    std::fs::write(&path, text).unwrap();
+    assert_both_ways_agree(&scene(&path), "textured AFF scene");
+    if let Some(kitchen) = skip::shared("scenes/bart/kitchen/aff/kitchen.aff") {
+        assert_both_ways_agree(&scene(&kitchen), "kitchen frame 0");
     }
 }

@@ -241,8 +241,10 @@ impl PyScene {
         self.prepared.info()
     }
 
-    /// Renders `region` (the whole image when `None`) on `threads` threads without
-    /// the GIL, cancelled by Ctrl-C; remembers the ray counts.
+    /// Renders `region` (the whole image when `None`) of the scene at time `at`
+    /// (`None`: frame 0) on `threads` threads without the GIL, cancelled by Ctrl-C;
+    /// remembers the ray counts. Gives back the frame prepared for the render when
+    /// it is not frame 0 (the denoiser's guides are its own).
     fn render_image(
         &self,
         py: Python<'_>,
@@ -250,7 +252,7 @@ impl PyScene {
         region: Option<(u32, u32, u32, u32)>,
         threads: Option<usize>,
         at: Option<f64>,
-    ) -> PyResult<nffrt::image::Image> {
+    ) -> PyResult<(nffrt::image::Image, Option<RenderScene>)> {
         let region = match region {
             Some((x0, y0, x1, y1)) => Region { x0, y0, x1, y1 },
             None => Region::full(opts.width, opts.height),
@@ -263,19 +265,22 @@ impl PyScene {
                 (Some(t), Some((aff, assets))) => Some(aff.flatten(t).map(|s| prepare(s, assets))),
                 _ => None,
             };
-            let scene = match &frame {
-                Some(Ok(prepared)) => prepared,
+            let frame = match frame {
+                Some(Ok(prepared)) => Some(prepared),
                 Some(Err(e)) => return Err(value_error(format!("time {}: {e}", at.unwrap_or_default()))),
-                None => &self.prepared,
+                None => None,
             };
+            let scene = frame.as_ref().unwrap_or(&self.prepared);
             let limits = RenderLimits::default();
-            render_region(scene, scene.view(), opts, &region, &limits, cancel).map_err(render_error)
+            let (image, stats) =
+                render_region(scene, scene.view(), opts, &region, &limits, cancel).map_err(render_error)?;
+            Ok((image, stats, frame))
         })?;
-        let (image, stats) = rendered?;
+        let (image, stats, frame) = rendered?;
         if let Ok(mut last) = self.last_stats.lock() {
             *last = Some((stats, t0.elapsed().as_secs_f64()));
         }
-        Ok(image)
+        Ok((image, frame))
     }
 }
 
@@ -300,7 +305,7 @@ impl PyScene {
     /// the library is not installed: `pip install pyoidn`). An AFF scene renders its
     /// frame 0 unless `frame` (0 to `frames - 1`) or `time` asks for another: the
     /// scene flattened at that time, as `nffrt render --frame`/`--time` renders it
-    /// (not denoised yet). The GIL is released while rendering; Ctrl-C stops the
+    /// (denoised, if asked, as `--denoise` denoises it). The GIL is released while rendering; Ctrl-C stops the
     /// render with `KeyboardInterrupt`.
     #[pyo3(signature = (width=None, height=None, spp=None, max_depth=None, region=None, threads=None, spd=false, aperture=None, focal=None, light_samples=None, seed=None, integrator=None, denoise=None, frame=None, time=None))]
     #[allow(clippy::too_many_arguments)]
@@ -331,11 +336,6 @@ impl PyScene {
             ));
         }
         let at = self.time_asked(frame, time)?;
-        if quality.is_some() && at.is_some() {
-            return Err(value_error(
-                "denoise works on an AFF scene's frame 0 only, so far: not with frame or time",
-            ));
-        }
         let integrator = integrator
             .map(|name| name.to_ascii_lowercase().parse::<IntegratorKind>())
             .transpose()
@@ -353,9 +353,10 @@ impl PyScene {
             integrator,
             ..RenderRequest::default()
         })?;
-        let mut image = self.render_image(py, &opts, region, threads, at)?;
+        let (mut image, frame) = self.render_image(py, &opts, region, threads, at)?;
         if let Some(quality) = quality {
-            image = crate::denoise::denoised(py, &self.prepared, &opts, image, quality)?;
+            let scene = frame.as_ref().unwrap_or(&self.prepared);
+            image = crate::denoise::denoised(py, scene, &opts, image, quality)?;
         }
         to_array(py, &image)
     }
@@ -540,7 +541,7 @@ impl PyScene {
             spp: Some(1),
             ..RenderRequest::default()
         })?;
-        let image = self.render_image(py, &opts, None, None, None)?;
+        let (image, _) = self.render_image(py, &opts, None, None, None)?;
         let png = encode(&image, ImageFormat::Png).map_err(value_error)?;
         Ok(PyBytes::new(py, &png))
     }

@@ -1,4 +1,5 @@
-"""``Scene.render(denoise=...)``: the same picture as ``nffrt render --denoise``,
+"""``Scene.render(denoise=...)``: the same picture as ``nffrt render --denoise``
+(an AFF scene's frames too),
 closer to a converged render than the noisy one; bad arguments and a missing
 library said clearly.
 
@@ -92,3 +93,26 @@ def test_a_missing_library_is_an_os_error_saying_how_to_get_it():
     assert out.returncode == 0, out.stderr
     assert "/nowhere/libOpenImageDenoise.so.2 (from NFFRT_OIDN)" in out.stdout, out.stdout
     assert "pip install pyoidn" in out.stdout, out.stdout
+
+
+# A white ball keyed along x over four frames (python/tests/test_aff.py's), lit by
+# the ambient light on black.
+BALL = (
+    "v from 0 0 10 at 0 0 0 up 0 1 0 angle 28.072486935852957 hither 1 resolution 41 41\n"
+    "b 0 0 0\nam 1 1 1\nfm 1 1 1  0 0 0  0 0 0  1 0 1\na 0 1 4\n"
+    "x ball { s 0 0 0 0.2 }\n"
+    "k ball { transl 4  -1 0 0 0 0 0 0   0 0 0 0 0 0 0   1 2 0 0 0 0 0   2 2 0 0 0 0 0 }\n"
+)
+
+
+def test_a_frame_is_denoised_as_the_command_line_denoises_it(denoiser, nffrt_bin, tmp_path: Path):
+    path = tmp_path / "ball.aff"
+    path.write_text(BALL)
+    scene = nffrt.load(str(path))
+    for flags, kwargs in [(["--frame", "2"], {"frame": 2}), (["--time", "0.75"], {"time": 0.75})]:
+        out = tmp_path / "d.pfm"
+        run_cli(nffrt_bin, "render", str(path), "--spp", "4", "--denoise", *flags, "-q", "-o", str(out))
+        ours = scene.render(spp=4, denoise=True, **kwargs)
+        assert np.array_equal(ours, read_pfm(out)), flags
+    # Frame 2's denoised picture is its own, not frame 0's.
+    assert not np.array_equal(scene.render(spp=4, denoise=True, frame=2), scene.render(spp=4, denoise=True))

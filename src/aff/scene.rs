@@ -280,6 +280,15 @@ impl AffScene {
         self.span.map_or(0.0, |s| s.time_of_frame(n))
     }
 
+    /// The times of the `k` sub-frames that blur the frame shown at time `t` over
+    /// its interval `[t, t + step)`: the middles of `k` equal parts, `t + (i + 0.5)
+    /// / k * step` for `i` in `0..k`. `None` for a still scene (no `a`), whose one
+    /// frame has no interval.
+    pub fn subframe_times(&self, t: f64, k: u32) -> Option<Vec<f64>> {
+        let step = self.span?.step();
+        Some((0..k).map(|i| t + (i as f64 + 0.5) / k as f64 * step).collect())
+    }
+
     /// The name of file `file` in messages.
     pub fn file_name(&self, file: u32) -> &str {
         self.files.get(file as usize).map_or("?", |f| f.name.as_str())

@@ -11,17 +11,27 @@ use super::image_out::{is_stdout, Destination};
 use super::render::{render_error, RenderArgs};
 use super::CliError;
 use nffrt::denoise::{Denoiser, Quality};
+use nffrt::image::Region;
 use nffrt::image::{Encoding, Image, ImageFormat};
 use nffrt::math::Vec3;
 use nffrt::options::{RenderLimits, RenderOptions, Sampling};
 use nffrt::prepare::RenderScene;
-use nffrt::render::{render_aovs, Aov, Aovs, Silent};
+use nffrt::render::{render_aovs, Aov, Aovs, RenderError, Silent};
 
-/// What to do after the render, checked and prepared.
-pub struct Finish {
+/// What to do after each render, checked and prepared once for all the pictures
+/// of a command (one, or an animation's frames): the denoiser opened.
+pub struct Finishing {
     denoiser: Option<(Denoiser, Quality)>,
     /// The AOVs asked for, each once, in [`Aov::ALL`]'s order.
     aovs: Vec<Aov>,
+    /// The pictures' format.
+    format: ImageFormat,
+}
+
+/// What to do after the render of one picture: [`Finishing`]'s work, with the
+/// files beside the picture opened.
+pub struct Finish<'a> {
+    finishing: &'a Finishing,
     /// Files beside the picture, one per AOV, when the picture is not OpenEXR.
     beside: Vec<(Aov, PathBuf, Destination)>,
 }
@@ -50,17 +60,18 @@ pub fn asked_aovs(args: &RenderArgs) -> Vec<Aov> {
     Aov::ALL.into_iter().filter(|a| args.aov.contains(a)).collect()
 }
 
-impl Finish {
+impl Finishing {
     /// Checks `--denoise` and `--aov` against the render of `opts` into `out_path`
-    /// (in `format`), opens the denoiser and the AOV files: usage errors for what
-    /// cannot be done, an I/O error for a denoiser that cannot be found.
+    /// (in `format`; for an animation, its pattern) and opens the denoiser: usage
+    /// errors for what cannot be done, an I/O error for a denoiser that cannot be
+    /// found.
     pub fn plan(
         args: &RenderArgs,
         out_path: &Path,
         format: ImageFormat,
         opts: &RenderOptions,
         threads: usize,
-    ) -> Result<Finish, CliError> {
+    ) -> Result<Finishing, CliError> {
         let aovs = asked_aovs(args);
         let post = args.denoise.is_some() || !aovs.is_empty();
         if post && args.region.is_some() {
@@ -94,17 +105,25 @@ impl Finish {
             }
             None => None,
         };
+        Ok(Finishing {
+            denoiser,
+            aovs,
+            format,
+        })
+    }
+
+    /// The work after the render of the picture `picture`, its AOV files opened.
+    pub fn open(&self, picture: &Path) -> Result<Finish<'_>, CliError> {
         let mut beside = Vec::new();
-        if format != ImageFormat::Exr {
-            for &aov in &aovs {
-                let path = beside_path(out_path, aov);
+        if self.format != ImageFormat::Exr {
+            for &aov in &self.aovs {
+                let path = beside_path(picture, aov);
                 let out = Destination::create(&path)?;
                 beside.push((aov, path, out));
             }
         }
         Ok(Finish {
-            denoiser,
-            aovs,
+            finishing: self,
             beside,
         })
     }
@@ -119,15 +138,31 @@ impl Finish {
             d.library().display()
         ))
     }
+}
 
-    /// After the render of `region` of `scene` with `opts` gave `image`: the AOVs,
-    /// the denoised picture, and the AOV files beside the picture (8-bit ones in
-    /// `encoding`, as the picture).
+impl Finish<'_> {
+    /// After the render of `scene` with `opts` gave `image` (the whole picture):
+    /// the AOVs of its eye samples, the denoised picture, and the AOV files beside
+    /// the picture (8-bit ones in `encoding`, as the picture).
     pub fn run(
         self,
         scene: &RenderScene,
         opts: &RenderOptions,
         limits: &RenderLimits,
+        image: Image,
+        format: ImageFormat,
+        encoding: Encoding,
+    ) -> Result<Finished, CliError> {
+        let full = Region::full(opts.width, opts.height);
+        let guides = || render_aovs(scene, scene.view(), opts, &full, limits, &Silent);
+        self.run_with(guides, opts, image, format, encoding)
+    }
+
+    /// [`Finish::run`] with the AOVs that `guides` makes, when they are needed.
+    pub fn run_with(
+        self,
+        guides: impl FnOnce() -> Result<Aovs, RenderError>,
+        opts: &RenderOptions,
         image: Image,
         format: ImageFormat,
         encoding: Encoding,
@@ -138,33 +173,50 @@ impl Finish {
             aov_s: None,
             denoise_s: None,
         };
-        if self.denoiser.is_none() && self.aovs.is_empty() {
+        let Finishing { denoiser, aovs, .. } = self.finishing;
+        if denoiser.is_none() && aovs.is_empty() {
             return Ok(finished);
         }
         let t0 = Instant::now();
-        let full = nffrt::image::Region::full(opts.width, opts.height);
-        let aovs = render_aovs(scene, scene.view(), opts, &full, limits, &Silent)
-            .map_err(|e| render_error(e, false))?;
+        let guides = guides().map_err(|e| render_error(e, false))?;
         finished.aov_s = Some(t0.elapsed().as_secs_f64());
-        if let Some((denoiser, quality)) = &self.denoiser {
+        if let Some((denoiser, quality)) = denoiser {
             let t1 = Instant::now();
             finished.image = denoiser
-                .denoise_render(&finished.image, &aovs, opts, *quality)
+                .denoise_render(&finished.image, &guides, opts, *quality)
                 .map_err(|e| CliError::io(format!("--denoise: {e}")))?;
             finished.denoise_s = Some(t1.elapsed().as_secs_f64());
         }
         if format == ImageFormat::Exr {
-            finished.exr_channels = self.aovs.iter().flat_map(|&a| exr_channels(&aovs, a)).collect();
+            finished.exr_channels = aovs.iter().flat_map(|&a| exr_channels(&guides, a)).collect();
         }
         for (aov, _, out) in self.beside {
             out.write_image(
-                &aov_picture(&aovs, aov, format),
+                &aov_picture(&guides, aov, format),
                 format,
                 aov_encoding(aov, format, encoding),
                 &[],
             )?;
         }
         Ok(finished)
+    }
+}
+
+impl Finished {
+    /// Writes the picture to `output`: in `format` (8-bit in `encoding`, with the
+    /// PNG text chunks `text`), or as OpenEXR layers with the AOVs' channels.
+    pub fn write(
+        &self,
+        output: Destination,
+        format: ImageFormat,
+        encoding: Encoding,
+        text: &[(&str, String)],
+    ) -> Result<(), CliError> {
+        if self.exr_channels.is_empty() {
+            output.write_image(&self.image, format, encoding, text)
+        } else {
+            output.write_exr_layers(&self.image, &self.exr_channels)
+        }
     }
 }
 

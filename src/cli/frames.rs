@@ -1,15 +1,19 @@
 //! The frames of an animated (AFF) scene that `nffrt render` renders: `--frame N`,
-//! `--time T` or `--frames A..B`, and the printf-style output pattern that names
-//! each frame's picture (`out_%04d.png`). Without them a render shows frame 0.
+//! `--time T` or `--frames A..B`, the printf-style output pattern that names each
+//! frame's picture (`out_%04d.png`), and `--motion-blur K`, each frame the mean of K
+//! sub-frames over its interval. Without them a render shows frame 0.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use super::finish::beside_path;
 use super::output::{refuse_overwriting, Named};
 use super::CliError;
 use nffrt::aff::{AffScene, FramePart};
+use nffrt::limits::MAX_MOTION_BLUR_SUBFRAMES;
 use nffrt::load::Loaded;
+use nffrt::render::Aov;
 
 /// Which frames of an animated scene to render (AFF scenes only).
 #[derive(Args, Debug, Clone, Default)]
@@ -37,20 +41,30 @@ pub struct FrameArgs {
     /// are built once, and each frame builds only what moves).
     #[arg(long, requires = "frames")]
     pub rebuild_whole: bool,
+    #[arg(long, value_name = "K", allow_negative_numbers = true,
+          help = format!("Motion blur across each frame's interval (an AFF scene's): the frame shown at \
+                          time t is the mean, in linear floats, of K sub-frames flattened at t + (i + 0.5) \
+                          / K * STEP (STEP the time between frames), an accumulation buffer; 1 to \
+                          {MAX_MOTION_BLUR_SUBFRAMES}. With --frame, --time, --frames or alone (frame 0); \
+                          not with --region, --pixel, --stats, --stats-json, --denoise or --aov"),
+          value_parser = super::values::whole_number::<u32>(1, MAX_MOTION_BLUR_SUBFRAMES as u64),
+          conflicts_with_all = ["region", "pixel", "stats", "stats_json", "denoise", "aov"])]
+    pub motion_blur: Option<u32>,
 }
 
 impl FrameArgs {
     /// True if any of the options is given.
     pub fn any(&self) -> bool {
-        self.frame.is_some() || self.time.is_some() || self.frames.is_some()
+        self.frame.is_some() || self.time.is_some() || self.frames.is_some() || self.motion_blur.is_some()
     }
 
     /// The flag given, for messages.
     fn flag(&self) -> &'static str {
-        match (self.frame, self.time) {
-            (Some(_), _) => "--frame",
-            (_, Some(_)) => "--time",
-            _ => "--frames",
+        match (self.frame, self.time, self.frames) {
+            (Some(_), _, _) => "--frame",
+            (_, Some(_), _) => "--time",
+            (_, _, Some(_)) => "--frames",
+            _ => "--motion-blur",
         }
     }
 }
@@ -75,6 +89,7 @@ fn frame_range(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// One frame to render: its number (none for `--time`), its time, and its picture.
+/// (With `--motion-blur`, the time the frame's interval starts at.)
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameJob {
     /// The frame's number.
@@ -158,12 +173,14 @@ impl OutputPattern {
 /// given, or `None` for the default), or `None` without frame options (a render of
 /// frame 0 as of old). Refused: frame options on a scene that is not AFF, a frame
 /// past the animation, more than one frame to a name without a field, and a name
-/// that is one of the scene's files (the scene, its includes, its textures).
+/// that is one of the scene's files (the scene, its includes, its textures), the
+/// names of the `aovs` files beside each picture included.
 pub fn plan(
     args: &FrameArgs,
     loaded: &Loaded,
     scene_path: &Path,
     output: Option<&Path>,
+    aovs: &[Aov],
 ) -> Result<Option<Vec<FrameJob>>, CliError> {
     if !args.any() {
         return Ok(None);
@@ -180,8 +197,15 @@ pub fn plan(
         (Some(n), _, _) => vec![Some(n)],
         (_, Some(_), _) => vec![None],
         (_, _, Some((a, b))) => (a..=b).map(Some).collect(),
-        _ => unreachable!("one option is given"),
+        // --motion-blur alone: frame 0, as a render without frame options.
+        _ => vec![Some(0)],
     };
+    if args.motion_blur.is_some() && aff.span.is_none() {
+        return Err(CliError::usage(format!(
+            "--motion-blur: {} has no animation (`a START END FRAMES`), so its one frame has no interval to blur over",
+            loaded.name
+        )));
+    }
     let last = aff.frames() - 1;
     if let Some(n) = numbers.iter().flatten().find(|&&n| n > last) {
         return Err(CliError::usage(format!(
@@ -212,7 +236,7 @@ pub fn plan(
             output: pattern.expand(number.unwrap_or(0)),
         })
         .collect();
-    refuse_inputs(&jobs, aff, scene_path)?;
+    refuse_inputs(&jobs, aovs, aff, scene_path)?;
     Ok(Some(jobs))
 }
 
@@ -260,7 +284,7 @@ fn default_pattern(scene: &Path, several: bool) -> String {
 }
 
 /// Refuses a picture that would overwrite one of the files the scene was read from.
-fn refuse_inputs(jobs: &[FrameJob], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
+fn refuse_inputs(jobs: &[FrameJob], aovs: &[Aov], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
     let mut inputs: Vec<(&Path, &str)> = vec![(scene_path, "the scene file")];
     inputs.extend(
         aff.files
@@ -274,11 +298,16 @@ fn refuse_inputs(jobs: &[FrameJob], aff: &AffScene, scene_path: &Path) -> Result
             .map(|t| (t.path.as_path(), "a texture of the scene")),
     );
     for job in jobs {
+        let beside: Vec<PathBuf> = aovs.iter().map(|&a| beside_path(&job.output, a)).collect();
         let named = Named {
             path: &job.output,
             named: format!("the picture {}", job.output.display()),
         };
-        refuse_overwriting(&[named], &inputs)?;
+        let beside = beside.iter().map(|path| Named {
+            path,
+            named: format!("the AOV picture {}", path.display()),
+        });
+        refuse_overwriting(&std::iter::once(named).chain(beside).collect::<Vec<_>>(), &inputs)?;
     }
     Ok(())
 }

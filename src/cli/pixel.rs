@@ -17,7 +17,7 @@ pub fn run(args: &RenderArgs, (x, y): (u32, u32)) -> Result<(), CliError> {
     let mut loaded = load_scene(&args.scene, &args.limits.scene, Need::Render)?;
     print_warnings(&loaded, 20);
     // `--frame` or `--time` (`--frames` asks for pictures, not a pixel).
-    if let Some(jobs) = frames::plan(&args.frames, &loaded, &args.scene, None)? {
+    if let Some(jobs) = frames::plan(&args.frames, &loaded, &args.scene, None, &[])? {
         loaded.scene = frames::flatten(&loaded, &jobs[0])?;
     }
     let (opts, _) = resolve(args, &loaded.scene.info())?;

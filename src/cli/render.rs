@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::finish::Finish;
+use super::finish::Finishing;
 use super::frames::{self, FrameArgs};
 use super::image_out::{display_name, format_of, is_stdout, Destination};
 use super::limits::{refused, RenderLimitArgs};
@@ -333,14 +333,16 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let load_s = t0.elapsed().as_secs_f64();
     print_warnings(&loaded, 20);
     let mut out_path = out_path;
-    match frames::plan(&args.frames, &loaded, &args.scene, args.output.as_deref())?.as_deref() {
+    let aovs = super::finish::asked_aovs(&args);
+    match frames::plan(&args.frames, &loaded, &args.scene, args.output.as_deref(), &aovs)?.as_deref() {
         None => {}
-        Some([one]) => {
+        Some([one]) if args.frames.motion_blur.is_none() => {
             loaded.scene = frames::flatten(&loaded, one)?;
             // A tile records the time it shows: tiles of two frames never merge.
             loaded.fingerprint = loaded.fingerprint.map(|f| frames::fingerprint_at(f, one.time));
             out_path = one.output.clone();
         }
+        // Several frames, or one blurred over its interval.
         Some(several) => return animation::run(&args, &pool, &loaded, several),
     }
     let info = loaded.scene.info();
@@ -350,7 +352,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let region = args.region.unwrap_or(full);
     let sized_by_flags = args.width.is_some() || args.height.is_some() || args.region.is_some();
     args.limits.check(&opts, &region, sized_by_flags)?;
-    let finish = Finish::plan(&args, &out_path, format, &opts, threads)?;
+    let finishing = Finishing::plan(&args, &out_path, format, &opts, threads)?;
+    let finish = finishing.open(&out_path)?;
     // Open the output (and the stats file) before the work, to fail fast.
     let output = Destination::create(&out_path)?;
     let stats_file = args.stats_json.as_deref().filter(|p| !is_stdout(p));
@@ -369,20 +372,15 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let (image, rays) = rendered.map_err(|e| render_error(e, sized_by_flags))?;
     let render_s = t2.elapsed().as_secs_f64();
     interrupt::check()?;
-    let denoiser = finish.denoiser_text();
+    let denoiser = finishing.denoiser_text();
     let finished = pool.install(|| finish.run(&scene, &opts, &limits, image, format, encoding))?;
-    let image = finished.image;
 
     let mut text = vec![(SOFTWARE_TEXT.0, SOFTWARE_TEXT.1.to_string())];
     if let Some(scene_print) = loaded.fingerprint {
         text.extend(tile_text(&region, &opts, scene_print));
         text.extend(tiles::encoding_text(encoding));
     }
-    if finished.exr_channels.is_empty() {
-        output.write_image(&image, format, encoding, &text)?;
-    } else {
-        output.write_exr_layers(&image, &finished.exr_channels)?;
-    }
+    finished.write(output, format, encoding, &text)?;
 
     let wants_stats = args.stats || args.stats_json.is_some();
     let accel = wants_stats.then(|| pool.install(|| stats::accel_work(&scene, &opts, &region)));

@@ -6,7 +6,8 @@
 //!
 //! Per pixel, over its samples in order:
 //! - **albedo**: the mean of the first hit's reflectance, in [0, 1] per channel:
-//!   the diffuse colour `Kd C`, plus the mirror's `Ks S` (`T = 0`) or 1 for glass
+//!   the diffuse colour `Kd C` (times the texel on a textured surface, as the path
+//!   tracer has it), plus the mirror's `Ks S` (`T = 0`) or 1 for glass
 //!   (`T > 0`: Open Image Denoise's advice for dielectrics), clamped to 1; an emitter
 //!   with no reflectance of its own takes its emission scaled to a largest channel of
 //!   1; a sample that meets nothing takes the background's colour, clamped;
@@ -226,17 +227,22 @@ fn first_hit(scene: &RenderScene, ray: &Ray, found: Option<(Hit, u32)>) -> First
     // Emitted on the side of the primitive's own normal, as path tracing has it.
     let facing = surface.normal.dot(ray.dir) < 0.0;
     FirstHit {
-        albedo: albedo(m),
+        albedo: albedo(m, scene.texel(m, prim, &hit)),
         normal,
         depth: Some(hit.t * ray.dir.length()),
         emission: if facing { m.emission } else { Vec3::ZERO },
     }
 }
 
-/// A material's reflectance as the denoiser's guide (see the module's text).
-pub fn albedo(m: &Material) -> Vec3 {
+/// A material's reflectance as the denoiser's guide (see the module's text), its
+/// diffuse colour times `texel` at a point of a textured surface.
+pub fn albedo(m: &Material, texel: Option<Vec3>) -> Vec3 {
     let specular = if m.t > 0.0 { Vec3::ONE } else { m.specular * m.ks };
-    let reflectance = clamp01(m.color * m.kd + specular);
+    let diffuse = match texel {
+        Some(texel) => (m.color * m.kd).mul_elem(texel),
+        None => m.color * m.kd,
+    };
+    let reflectance = clamp01(diffuse + specular);
     let brightest = m.emission.x.max(m.emission.y).max(m.emission.z);
     if reflectance == Vec3::ZERO && brightest > 0.0 {
         return clamp01(m.emission * (1.0 / brightest));
@@ -332,12 +338,12 @@ mod tests {
         let mut m = crate::scene::Material::DEFAULT;
         m.t = 0.9;
         m.kd = 0.1;
-        assert_eq!(albedo(&m), Vec3::ONE);
+        assert_eq!(albedo(&m, None), Vec3::ONE);
         let lamp = crate::scene::Material {
             kd: 0.0,
             emission: Vec3::new(10.0, 5.0, 0.0),
             ..crate::scene::Material::DEFAULT
         };
-        assert_eq!(albedo(&lamp), Vec3::new(1.0, 0.5, 0.0));
+        assert_eq!(albedo(&lamp, None), Vec3::new(1.0, 0.5, 0.0));
     }
 }

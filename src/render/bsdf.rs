@@ -1,7 +1,8 @@
 //! The path tracer's BSDFs: one documented mapping from a P3F or NFF material
 //! `(C, Kd, S, Ks, shine, T, ior, emission, roughness)` to a sum of lobes.
 //!
-//! - **Diffuse**: Lambertian, albedo `Kd C`.
+//! - **Diffuse**: Lambertian, albedo `Kd C`, times the texel at the point on a
+//!   textured (AFF) surface ([`Bsdf::textured`]).
 //! - **Mirror** (opaque materials, `T = 0`): reflectance `Ks S`, a perfect mirror at
 //!   roughness 0, else the Trowbridge-Reitz (GGX) microfacet reflection of width
 //!   `alpha = roughness^2` (`D G / (4 cos_o cos_i)`, no Fresnel: `Ks S` is the
@@ -117,7 +118,19 @@ impl Bsdf {
     /// primitive's own normal) or leaving it; smooth whatever `m`'s roughness unless
     /// `roughness`.
     pub fn new(m: &Material, entering: bool, roughness: bool) -> Bsdf {
-        let diffuse = (m.color * m.kd).max(Vec3::ZERO);
+        Bsdf::with_diffuse(m, entering, roughness, (m.color * m.kd).max(Vec3::ZERO))
+    }
+
+    /// [`Bsdf::new`] at a point of a textured surface: its diffuse albedo `Kd C`
+    /// times the point's `texel` (AFF's textures; the other lobes are the
+    /// material's).
+    pub fn textured(m: &Material, entering: bool, roughness: bool, texel: Vec3) -> Bsdf {
+        let diffuse = (m.color * m.kd).max(Vec3::ZERO).mul_elem(texel.max(Vec3::ZERO));
+        Bsdf::with_diffuse(m, entering, roughness, diffuse)
+    }
+
+    /// The BSDF of `m` with the diffuse albedo `diffuse`.
+    fn with_diffuse(m: &Material, entering: bool, roughness: bool, diffuse: Vec3) -> Bsdf {
         let dielectric = m.t > 0.0;
         let mirror = if dielectric {
             Vec3::ZERO

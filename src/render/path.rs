@@ -9,9 +9,12 @@
 //! background), depth 2 adds direct light, and so on. A light sample adds a segment
 //! too, so at the last depth none is taken.
 //!
-//! Materials map to BSDFs as `bsdf.rs` documents; lights and emitters as
+//! Materials map to BSDFs as `bsdf.rs` documents (a textured surface's texel
+//! multiplies its diffuse albedo); lights and emitters as
 //! `prepare/emitters.rs` does. Every number a path draws is the eye sample's, one dimension
 //! per segment and use, stratified like the lens's ([`Dim`]).
+
+use std::borrow::Cow;
 
 use super::bsdf::Bsdf;
 use super::integrator::{Integrator, PathEvent, Recorder, TraceContext};
@@ -38,6 +41,8 @@ pub struct PathTracer<'a> {
     /// entering]`: whether the ray meets the side of the primitive's own normal),
     /// worked out once.
     bsdfs: Vec<[Bsdf; 2]>,
+    /// Whether rough surfaces are rough (for the BSDFs of textured points).
+    roughness: bool,
 }
 
 impl<'a> PathTracer<'a> {
@@ -58,6 +63,7 @@ impl<'a> PathTracer<'a> {
             scene,
             max_depth,
             bsdfs,
+            roughness,
         }
     }
 }
@@ -150,6 +156,9 @@ pub(super) struct Scatter {
     pub material: u32,
     /// True if the segment crosses into the object.
     pub entering: bool,
+    /// The texel at the vertex, on a textured surface: it multiplies the diffuse
+    /// albedo ([`Bsdf::textured`]).
+    pub texel: Option<Vec3>,
 }
 
 /// A light sample's shadow ray, still to be tested, and what it adds unless blocked.
@@ -251,7 +260,8 @@ impl PathTracer<'_> {
         let wo_world = -ray.dir.normalize();
         let frame = Frame::new(if ns.dot(wo_world) > 0.0 { ns } else { n });
         let wo = frame.to_local(wo_world);
-        if self.bsdf(prim.material, entering).is_black() {
+        let texel = scene.texel(m, prim, &hit);
+        if self.bsdf_at(prim.material, entering, texel).is_black() {
             return None;
         }
         let offset = prim.origin_offset(&surface, point_error(surface.point, &ray, hit.t));
@@ -265,6 +275,7 @@ impl PathTracer<'_> {
             n,
             material: prim.material,
             entering,
+            texel,
         })
     }
 
@@ -272,6 +283,26 @@ impl PathTracer<'_> {
     #[inline(always)]
     pub(super) fn bsdf(&self, material: u32, entering: bool) -> &Bsdf {
         &self.bsdfs[material as usize][usize::from(entering)]
+    }
+
+    /// The BSDF at a point of material `material` seen from outside (`entering`)
+    /// or inside, whose texture (if any) gives `texel` there: the material's own,
+    /// or one with the texel in its diffuse albedo.
+    #[inline(always)]
+    pub(super) fn bsdf_at(&self, material: u32, entering: bool, texel: Option<Vec3>) -> Cow<'_, Bsdf> {
+        match texel {
+            None => Cow::Borrowed(self.bsdf(material, entering)),
+            Some(texel) => {
+                let m = &self.scene.materials()[material as usize];
+                Cow::Owned(Bsdf::textured(m, entering, self.roughness, texel))
+            }
+        }
+    }
+
+    /// The BSDF at vertex `at`.
+    #[inline(always)]
+    pub(super) fn scatter_bsdf(&self, at: &Scatter) -> Cow<'_, Bsdf> {
+        self.bsdf_at(at.material, at.entering, at.texel)
     }
 
     /// Next-event estimation at vertex `at` of `path`: a point of one emitter and the
@@ -285,7 +316,7 @@ impl PathTracer<'_> {
         id: &SampleId,
         ctx: &mut TraceContext,
     ) -> Option<ShadowQuery> {
-        let bsdf = self.bsdf(at.material, at.entering);
+        let bsdf = self.scatter_bsdf(at);
         let emitters = self.scene.emitters();
         if !bsdf.has_spread() || emitters.is_empty() {
             return None;
@@ -359,7 +390,7 @@ impl PathTracer<'_> {
         rec: &mut R,
     ) -> bool {
         let depth = path.depth;
-        let bsdf = self.bsdf(at.material, at.entering);
+        let bsdf = self.scatter_bsdf(at);
         let lobe = if bsdf.needs_lobe_number() {
             id.value(Dim::Lobe { depth })
         } else {

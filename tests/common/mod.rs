@@ -184,3 +184,44 @@ pub fn shared_p3f_scenes(dirs: &[&str]) -> Option<Vec<PathBuf>> {
     all.sort();
     Some(all)
 }
+
+/// Runs the `nffrt` binary with nothing on standard input, asserting that it exits
+/// with 0 (its standard error in the message otherwise).
+pub fn nffrt_ok(args: &[&str]) {
+    let out = nffrt(args, b"");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// An AFF animation of a white sphere of radius 0.2 (shown by the ambient light
+/// alone: exactly 1 where it is met) on a black background, its block `x ball` keyed
+/// along x: keys x = 0, 0, 2, 2 at times -1, 0, 1, 2 (the curve runs from the second
+/// key to the third: on t in [0, 1] the centre is at x = t + 3t² - 2t³,
+/// tests/aff_frames.rs works it out), four frames over t = 0..1. The camera at
+/// z = 10 looks at the origin; its `side` x `side` pixel centres span x, y = ±2.5 on
+/// the plane z = 0 (tan(angle / 2) = 0.25).
+pub fn keyed_ball(side: u32) -> String {
+    format!(
+        "v from 0 0 10 at 0 0 0 up 0 1 0 angle 28.072486935852957 hither 1 resolution {side} {side}\n\
+         b 0 0 0\nam 1 1 1\nfm 1 1 1  0 0 0  0 0 0  1 0 1\na 0 1 4\n\
+         x ball {{ s 0 0 0 0.2 }}\n\
+         k ball {{ transl 4  -1 0 0 0 0 0 0   0 0 0 0 0 0 0   1 2 0 0 0 0 0   2 2 0 0 0 0 0 }}\n"
+    )
+}
+
+/// True if Open Image Denoise is found as `nffrt render --denoise` looks for it;
+/// otherwise says the check is skipped (a failure under NFFRT_REQUIRE_OIDN=1).
+pub fn denoiser_installed() -> bool {
+    if nffrt::denoise::Denoiser::open(&[], 1).is_ok() {
+        return true;
+    }
+    skip::skip_unless_required(
+        "NFFRT_REQUIRE_OIDN",
+        "Open Image Denoise is not installed (pip install pyoidn, or NFFRT_OIDN)",
+    );
+    false
+}

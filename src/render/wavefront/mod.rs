@@ -125,7 +125,7 @@ impl Streams for PathTracer<'_> {
 impl PathTracer<'_> {
     /// Hands the vertices `scatter` to a step, grouped by material and side as
     /// `order` lists them: eight at a time where the material has only smooth
-    /// lobes, else one at a time (with its path's index).
+    /// lobes and no texture, else one at a time (with its path's index).
     fn each_group<'v>(
         &self,
         scatter: &'v [(u32, Scatter)],
@@ -134,9 +134,16 @@ impl PathTracer<'_> {
         mut step: impl FnMut(Group<'v>),
     ) {
         let key = |&pick: &u32| material_key(&scatter[pick as usize].1);
+        let materials = self.scene().materials();
         for group in order.chunk_by(|a, b| key(a) == key(b)) {
             let at = &scatter[group[0] as usize].1;
-            match self.bsdf(at.material, at.entering).smooth_lobes() {
+            // A textured material's BSDF changes from vertex to vertex.
+            let textured = materials[at.material as usize].texture.is_some();
+            match self
+                .bsdf(at.material, at.entering)
+                .smooth_lobes()
+                .filter(|_| !textured)
+            {
                 Some(lobes) => {
                     for picks in group.chunks(LANES) {
                         step(Group::Lanes(Vertices8 {
