@@ -4,16 +4,16 @@
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use nffrt::aff::AffScene;
+use nffrt::aff::{AffScene, FramePart};
 use nffrt::image::Region;
 use nffrt::load::{load_cancellable, Assets, LoadError, LoadOptions, Source};
 use nffrt::math::Vec3;
 use nffrt::nff::{parse_format_cancellable, Format, Limits};
 use nffrt::options::{image_size, RenderLimits, RenderOptions, RenderRequest};
-use nffrt::prepare::{prepare, RenderScene};
+use nffrt::prepare::{prepare, prepare_frame, FixedPart, PrepareOptions, RenderScene};
 use nffrt::render::{render_region, Stats};
 use nffrt::scene::{Dialect, IntegratorKind, Light, SceneInfo};
 use nffrt::words::shortest_f64;
@@ -41,6 +41,10 @@ pub struct PyScene {
     /// An AFF scene's animation, which `render(frame=..)` flattens at other times
     /// (`prepared` is its frame 0), with the files it names.
     animation: Option<(Arc<AffScene>, Assets)>,
+    /// An AFF scene's fixed part (the objects under no keyframed transform), built
+    /// the first time another frame is asked for: each frame then builds only what
+    /// moves.
+    fixed: OnceLock<Result<FixedPart, String>>,
     last_stats: Mutex<Option<(Stats, f64)>>,
 }
 
@@ -200,8 +204,25 @@ impl PyScene {
             text,
             format,
             animation,
+            fixed: OnceLock::new(),
             last_stats: Mutex::new(None),
         }
+    }
+
+    /// `aff` at time `t` prepared with the files it names, `assets`, as
+    /// `nffrt render --time` prepares it: its moving part built under one root with
+    /// its fixed part, made once.
+    fn frame_at(&self, aff: &AffScene, assets: &Assets, t: f64) -> Result<RenderScene, String> {
+        let opts = PrepareOptions::default();
+        let fixed = self.fixed.get_or_init(|| {
+            let scene = aff.flatten_part(t, FramePart::Fixed).map_err(|e| e.to_string())?;
+            Ok(FixedPart::new(scene, &opts))
+        });
+        let fixed = fixed.as_ref().map_err(String::clone)?;
+        let moving = aff
+            .flatten_part(t, FramePart::Moving)
+            .map_err(|e| e.to_string())?;
+        Ok(prepare_frame(fixed, moving, None, assets, &opts))
     }
 
     /// The time `frame` or `time` asks for (`None`: frame 0, the prepared scene); a
@@ -262,7 +283,7 @@ impl PyScene {
         let rendered = without_gil(py, pool.as_ref(), |cancel| {
             // Another frame: flattened at its time and prepared for this render.
             let frame = match (at, &self.animation) {
-                (Some(t), Some((aff, assets))) => Some(aff.flatten(t).map(|s| prepare(s, assets))),
+                (Some(t), Some((aff, assets))) => Some(self.frame_at(aff, assets, t)),
                 _ => None,
             };
             let frame = match frame {
