@@ -222,7 +222,8 @@ impl PyScene {
         let moving = aff
             .flatten_part(t, FramePart::Moving)
             .map_err(|e| e.to_string())?;
-        Ok(prepare_frame(fixed, moving, None, assets, &opts))
+        Ok(prepare_frame(fixed, moving, None, assets, &opts)
+            .expect("a fixed part that never lends its arrays grafts into a copy of them"))
     }
 
     /// The time `frame` or `time` asks for (`None`: frame 0, the prepared scene); a

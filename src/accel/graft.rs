@@ -29,13 +29,35 @@ use crate::math::Aabb;
 /// new root whose first lane holds it, the second left for each moving part.
 #[derive(Clone, Debug)]
 pub struct Rootstock {
-    /// The fixed part's tree under the new root.
-    base: Bvh,
+    /// The fixed part's tree under the new root, until lent ([`Rootstock::lend`]).
+    base: Option<Bvh>,
+    /// What a graft needs to know of the base: its entries' counts, its root, its
+    /// unbounded primitives (which go after the moving part's bounded ones).
+    shape: StockShape,
     /// The low half of a rank past every fixed primitive's.
     rank: u64,
     /// Carried by the trees grafted onto this stock (`Bvh::stock`), so that one of
     /// them can lend its arrays to the next graft.
     id: u64,
+}
+
+/// The counts of the base's entries, its root and what follows its bounded entries.
+#[derive(Clone, Debug)]
+struct StockShape {
+    root: Node8,
+    nodes: usize,
+    tri4: usize,
+    sphere4: usize,
+    cone4: usize,
+    bounded: usize,
+    /// The unbounded primitives and their ranks.
+    unbounded: Vec<Primitive>,
+    unbounded_ranks: Vec<u64>,
+    points_2d: usize,
+    normals: usize,
+    uvs: usize,
+    depth: u32,
+    copies: Option<Copies>,
 }
 
 /// How far the moving part's indices move: past the fixed part's entries of each array.
@@ -91,17 +113,47 @@ impl Rootstock {
             .unwrap_or(0);
         let id = STOCKS.fetch_add(1, Ordering::Relaxed);
         base.stock = id;
-        Rootstock { base, rank, id }
+        let fb = base.bounded;
+        let shape = StockShape {
+            root: base.wide[0],
+            nodes: base.wide.len(),
+            tri4: base.tri4.len(),
+            sphere4: base.sphere4.len(),
+            cone4: base.cone4.len(),
+            bounded: fb,
+            unbounded: base.primitives[fb..].to_vec(),
+            unbounded_ranks: base.ranks[fb..].to_vec(),
+            points_2d: base.data.polygon_points_2d.len(),
+            normals: base.data.patch_normals.len(),
+            uvs: base.data.patch_uvs.len(),
+            depth: base.depth,
+            copies: base.copies.clone(),
+        };
+        Rootstock {
+            base: Some(base),
+            shape,
+            rank,
+            id,
+        }
+    }
+
+    /// The stock's own arrays, to be the first graft's `spare`: a user that hands
+    /// each graft's tree to the next copies nothing of the fixed part, ever. Later
+    /// grafts without a spare then have nothing to copy (`None`).
+    pub fn lend(&mut self) -> Option<Bvh> {
+        self.base.take()
     }
 
     /// The fixed part and `moving` as one tree (see the module docs), made in the
-    /// arrays of `spare` when it is an earlier graft onto this stock (nothing of the
-    /// fixed part copied then), else in a copy of the stock's.
-    pub fn graft(&self, moving: Bvh, spare: Option<Bvh>) -> Bvh {
-        let base = &self.base;
+    /// arrays of `spare` when it is an earlier graft onto this stock or the stock's
+    /// lent arrays (nothing of the fixed part copied then), else in a copy of the
+    /// stock's arrays; `None` when they were lent and `spare` is not a graft onto
+    /// this stock.
+    pub fn graft(&self, moving: Bvh, spare: Option<Bvh>) -> Option<Bvh> {
+        let base = &self.shape;
         let mut tree = match spare {
             Some(tree) if tree.stock == self.id => tree,
-            _ => base.clone(),
+            _ => self.base.clone()?,
         };
         let depth = base.depth.max(moving.depth + 1);
         debug_assert!(
@@ -110,44 +162,44 @@ impl Rootstock {
         );
         let fb = base.bounded;
         let moved = Offsets {
-            node: base.wide.len() as u32,
-            tri4: base.tri4.len() as u32,
-            sphere4: base.sphere4.len() as u32,
-            cone4: base.cone4.len() as u32,
+            node: base.nodes as u32,
+            tri4: base.tri4 as u32,
+            sphere4: base.sphere4 as u32,
+            cone4: base.cone4 as u32,
             bounded: fb as u32,
-            normals: base.data.patch_normals.len() as u32,
-            points_2d: base.data.polygon_points_2d.len() as u32,
+            normals: base.normals as u32,
+            points_2d: base.points_2d as u32,
             rank: self.rank,
         };
         // Back to the fixed part's entries, then the moving part's appended (the
         // unbounded primitives after the bounded ones, the fixed part's first).
-        tree.wide.truncate(base.wide.len());
-        tree.wide[0] = base.wide[0];
+        tree.wide.truncate(base.nodes);
+        tree.wide[0] = base.root;
         if let Some(root) = moving.wide.first() {
             set_lane(&mut tree.wide[0], MOVING_LANE, node_bounds(root), moved.node);
         }
         tree.wide.extend(moving.wide.iter().map(|n| moved_node(n, moved)));
-        append_blocks(&mut tree.tri4, base.tri4.len(), &moving.tri4, moved);
-        append_blocks(&mut tree.sphere4, base.sphere4.len(), &moving.sphere4, moved);
-        append_blocks(&mut tree.cone4, base.cone4.len(), &moving.cone4, moved);
+        append_blocks(&mut tree.tri4, base.tri4, &moving.tri4, moved);
+        append_blocks(&mut tree.sphere4, base.sphere4, &moving.sphere4, moved);
+        append_blocks(&mut tree.cone4, base.cone4, &moving.cone4, moved);
         let mb = moving.bounded;
         let moved_rank = |r: &u64| r + moved.rank;
         tree.primitives.truncate(fb);
         tree.primitives
             .extend(moving.primitives[..mb].iter().map(|p| moved_primitive(p, moved)));
-        tree.primitives.extend_from_slice(&base.primitives[fb..]);
+        tree.primitives.extend_from_slice(&base.unbounded);
         tree.primitives
             .extend(moving.primitives[mb..].iter().map(|p| moved_primitive(p, moved)));
         tree.ranks.truncate(fb);
         tree.ranks.extend(moving.ranks[..mb].iter().map(moved_rank));
-        tree.ranks.extend_from_slice(&base.ranks[fb..]);
+        tree.ranks.extend_from_slice(&base.unbounded_ranks);
         tree.ranks.extend(moving.ranks[mb..].iter().map(moved_rank));
         tree.copies = graft_copies(base, &moving, moved);
-        append_data(&mut tree.data, &base.data, &moving.data);
+        append_data(&mut tree.data, base, &moving.data);
         tree.bounded = fb + mb;
         tree.depth = depth;
         tree.kinds = leaf_kinds::copy_for(&tree.wide);
-        tree
+        Some(tree)
     }
 }
 
@@ -247,18 +299,18 @@ fn moved_primitive(p: &Primitive, moved: Offsets) -> Primitive {
     p
 }
 
-/// The geometry arrays back to the fixed part's, `fixed`, then `moving`'s after them
-/// (texture coordinates, kept parallel to the normals, filled with zeros for a part
-/// without them).
-fn append_data(data: &mut GeometryData, fixed: &GeometryData, moving: &GeometryData) {
-    data.polygon_points_2d.truncate(fixed.polygon_points_2d.len());
+/// The geometry arrays back to the fixed part's (`fixed` counts them), then
+/// `moving`'s after them (texture coordinates, kept parallel to the normals, filled
+/// with zeros for a part without them).
+fn append_data(data: &mut GeometryData, fixed: &StockShape, moving: &GeometryData) {
+    data.polygon_points_2d.truncate(fixed.points_2d);
     data.polygon_points_2d
         .extend_from_slice(&moving.polygon_points_2d);
-    data.patch_normals.truncate(fixed.patch_normals.len());
+    data.patch_normals.truncate(fixed.normals);
     data.patch_normals.extend_from_slice(&moving.patch_normals);
-    data.patch_uvs.truncate(fixed.patch_uvs.len());
-    if !(fixed.patch_uvs.is_empty() && moving.patch_uvs.is_empty()) {
-        data.patch_uvs.resize(fixed.patch_normals.len(), [0.0; 2]);
+    data.patch_uvs.truncate(fixed.uvs);
+    if !(fixed.uvs == 0 && moving.patch_uvs.is_empty()) {
+        data.patch_uvs.resize(fixed.normals, [0.0; 2]);
         data.patch_uvs.extend_from_slice(&moving.patch_uvs);
         data.patch_uvs.resize(data.patch_normals.len(), [0.0; 2]);
     }
@@ -266,27 +318,27 @@ fn append_data(data: &mut GeometryData, fixed: &GeometryData, moving: &GeometryD
 
 /// The split cones' bookkeeping of the grafted tree: `None` when neither part has
 /// split cones.
-fn graft_copies(fixed: &Bvh, moving: &Bvh, moved: Offsets) -> Option<Copies> {
+fn graft_copies(fixed: &StockShape, moving: &Bvh, moved: Offsets) -> Option<Copies> {
     if fixed.copies.is_none() && moving.copies.is_none() {
         return None;
     }
     let whole = Piece { index: 0, of: 1 };
-    let part = |bvh: &Bvh, base: u32| -> (Vec<u32>, Vec<Piece>, usize) {
-        match &bvh.copies {
+    let part = |copies: &Option<Copies>, bounded: usize, base: u32| -> (Vec<u32>, Vec<Piece>, usize) {
+        match copies {
             Some(c) => (
                 c.canonical.iter().map(|&i| i + base).collect(),
                 c.piece.clone(),
                 c.distinct,
             ),
             None => (
-                (0..bvh.bounded as u32).map(|i| i + base).collect(),
-                vec![whole; bvh.bounded],
-                bvh.bounded,
+                (0..bounded as u32).map(|i| i + base).collect(),
+                vec![whole; bounded],
+                bounded,
             ),
         }
     };
-    let (mut canonical, mut piece, fixed_distinct) = part(fixed, 0);
-    let (c, p, moving_distinct) = part(moving, moved.bounded);
+    let (mut canonical, mut piece, fixed_distinct) = part(&fixed.copies, fixed.bounded, 0);
+    let (c, p, moving_distinct) = part(&moving.copies, moving.bounded, moved.bounded);
     canonical.extend(c);
     piece.extend(p);
     Some(Copies {

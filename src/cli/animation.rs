@@ -71,7 +71,7 @@ pub fn run(
     let mut rays = 0;
     let start = Instant::now();
     let prepare = prepare_options(args);
-    let fixed = match args.frames.rebuild_whole {
+    let mut fixed = match args.frames.rebuild_whole {
         true => None,
         false => {
             let scene = flatten_part(loaded, &jobs[0], FramePart::Fixed)?;
@@ -83,8 +83,9 @@ pub fn run(
         None => FramePart::All,
     };
     seconds.fixed = start.elapsed().as_secs_f64();
-    // The last frame's tree, whose arrays the next frame's graft reuses.
-    let mut spare = None;
+    // The fixed part's arrays, then the last frame's tree, in which the next frame's
+    // graft is made.
+    let mut spare = fixed.as_mut().and_then(FixedPart::lend);
     for job in jobs {
         let output = Destination::create(&job.output)?;
         let finish = finishing.open(&job.output)?;
@@ -101,8 +102,10 @@ pub fn run(
             let t1 = Instant::now();
             let scene = pool.install(|| match &fixed {
                 Some(fixed) => prepare_frame(fixed, scene, spare.take(), &loaded.assets, &prepare),
-                None => prepare_with(scene, &loaded.assets, &prepare),
+                None => Some(prepare_with(scene, &loaded.assets, &prepare)),
             });
+            let scene =
+                scene.expect("each frame's tree, the first the lent arrays, is the next frame's spare");
             let t2 = Instant::now();
             interrupt::check()?;
             let rendered =

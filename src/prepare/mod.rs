@@ -78,18 +78,21 @@ pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> Ren
 /// lights and materials are `moving`'s (see [`FixedPart`]): only `moving`'s
 /// primitives are built, under one root with `fixed`'s, in the arrays of `spare`
 /// when it is an earlier frame's tree on the same fixed part
-/// ([`RenderScene::into_bvh`]; nothing of the fixed part is copied then). The same
-/// pictures as [`prepare_with`] of the whole frame.
+/// ([`RenderScene::into_bvh`]) or the arrays it lent ([`FixedPart::lend`]; nothing
+/// of the fixed part is copied then). The same pictures as [`prepare_with`] of the
+/// whole frame. `None` when `fixed` lent its arrays and `spare` is neither them nor
+/// a frame's tree on them.
 pub fn prepare_frame(
     fixed: &FixedPart,
     moving: Scene,
     spare: Option<Bvh>,
     assets: &Assets,
     opts: &PrepareOptions,
-) -> RenderScene {
+) -> Option<RenderScene> {
     let (bvh, mut info, textures) = build(moving, opts);
     info.include_counts(&fixed.info);
-    assemble(fixed.stock.graft(bvh, spare), info, textures, assets, opts)
+    let tree = fixed.stock.graft(bvh, spare)?;
+    Some(assemble(tree, info, textures, assets, opts))
 }
 
 /// The part of an animated scene's frames that never moves, built once for all of
@@ -107,6 +110,13 @@ impl FixedPart {
             stock: Rootstock::new(bvh),
             info,
         }
+    }
+
+    /// Its arrays, for a caller that renders one frame at a time to give as the
+    /// first frame's `spare` (and each frame's tree to the next): the fixed part is
+    /// then never copied, and held once in memory.
+    pub fn lend(&mut self) -> Option<Bvh> {
+        self.stock.lend()
     }
 }
 

@@ -100,14 +100,17 @@ fn a_grafted_tree_answers_as_the_tree_of_both_parts() {
     let (fixed, moving) = (part(1500, 0x51, 1), part(900, 0x77, 2));
     let mut whole = fixed.clone();
     whole.append(moving.clone(), &mut |m| m);
-    let stock = Rootstock::new(bvh_of(&fixed));
-    // The arrays of a graft of another moving part lent to this one.
-    let other = stock.graft(bvh_of(&part(300, 0x99, 3)), None);
-    let grafted = stock.graft(bvh_of(&moving), Some(other));
-    assert_eq!(
-        format!("{grafted:?}"),
-        format!("{:?}", stock.graft(bvh_of(&moving), None))
+    let mut stock = Rootstock::new(bvh_of(&fixed));
+    let fresh = stock.graft(bvh_of(&moving), None).unwrap();
+    // The stock's arrays lent to a graft, whose arrays another graft then takes.
+    let lent = stock.lend();
+    let other = stock.graft(bvh_of(&part(300, 0x99, 3)), lent).unwrap();
+    assert!(
+        stock.graft(bvh_of(&moving), None).is_none(),
+        "nothing left to copy"
     );
+    let grafted = stock.graft(bvh_of(&moving), Some(other)).unwrap();
+    assert_eq!(format!("{grafted:?}"), format!("{fresh:?}"));
     grafted.validate().unwrap();
     let whole = bvh_of(&whole);
     assert_eq!(grafted.primitive_count(), whole.primitive_count());
@@ -169,8 +172,8 @@ fn grafting_onto_or_from_an_empty_part_keeps_the_other() {
     let ray = Ray::new(Vec3::new(0.0, 0.0, -200.0), Vec3::new(0.0, 0.0, 1.0));
     let alone = bvh_of(&some);
     for grafted in [
-        Rootstock::new(bvh_of(&empty)).graft(bvh_of(&some), None),
-        Rootstock::new(bvh_of(&some)).graft(bvh_of(&empty), None),
+        Rootstock::new(bvh_of(&empty)).graft(bvh_of(&some), None).unwrap(),
+        Rootstock::new(bvh_of(&some)).graft(bvh_of(&empty), None).unwrap(),
     ] {
         grafted.validate().unwrap();
         assert_eq!(grafted.primitive_count(), alone.primitive_count());
@@ -179,7 +182,9 @@ fn grafting_onto_or_from_an_empty_part_keeps_the_other() {
             seen(&alone, &ray, alone.closest_hit(&ray, f32::INFINITY))
         );
     }
-    let none = Rootstock::new(bvh_of(&empty)).graft(bvh_of(&empty), None);
+    let none = Rootstock::new(bvh_of(&empty))
+        .graft(bvh_of(&empty), None)
+        .unwrap();
     none.validate().unwrap();
     assert_eq!(none.closest_hit(&ray, f32::INFINITY), None);
 }

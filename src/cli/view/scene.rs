@@ -163,7 +163,9 @@ impl Loaded {
             .take()
             .and_then(|(_, _, old)| Arc::try_unwrap(old).ok())
             .map(RenderScene::into_bvh);
-        let scene = Arc::new(prepare_frame(&fixed, moving, spare, &self.parsed.1, &asked));
+        let scene = prepare_frame(&fixed, moving, spare, &self.parsed.1, &asked)
+            .expect("a fixed part that never lends its arrays grafts into a copy of them");
+        let scene = Arc::new(scene);
         *kept = Some((n, asked, scene.clone()));
         Ok(scene)
     }
