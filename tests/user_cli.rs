@@ -256,6 +256,7 @@ fn bench_reports_every_key_and_the_hand_counted_hits() {
     for key in [
         "build_ms",
         "build_best_ms",
+        "bvh_best_ms",
         "sah_cost",
         "primary_mrays",
         "primary_occl_mrays",
@@ -268,6 +269,9 @@ fn bench_reports_every_key_and_the_hand_counted_hits() {
     ] {
         assert!(value(key).parse::<f64>().unwrap() > 0.0, "{key} in {summary}");
     }
+    // `Bvh::new` alone is a part of every whole build.
+    let ms = |key: &str| value(key).parse::<f64>().unwrap();
+    assert!(ms("bvh_best_ms") <= ms("build_best_ms"), "{summary}");
     assert_eq!(value("rays_hits"), "5");
     assert!(stdout.contains("packets of 8 consecutive rays"), "{stdout}");
 }

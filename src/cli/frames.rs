@@ -70,7 +70,7 @@ impl FrameArgs {
 }
 
 /// `--time`'s value: a finite number.
-fn finite_time(s: &str) -> Result<f64, String> {
+pub fn finite_time(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(t) if t.is_finite() => Ok(t),
         _ => Err(format!("expected a finite number of time units, found {s:?}")),
@@ -283,8 +283,9 @@ fn default_pattern(scene: &Path, several: bool) -> String {
     }
 }
 
-/// Refuses a picture that would overwrite one of the files the scene was read from.
-fn refuse_inputs(jobs: &[FrameJob], aovs: &[Aov], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
+/// The files an AFF scene was read from, as [`refuse_overwriting`] names them: the
+/// scene file, its includes, its textures.
+pub fn aff_inputs<'a>(aff: &'a AffScene, scene_path: &'a Path) -> Vec<(&'a Path, &'static str)> {
     let mut inputs: Vec<(&Path, &str)> = vec![(scene_path, "the scene file")];
     inputs.extend(
         aff.files
@@ -297,6 +298,12 @@ fn refuse_inputs(jobs: &[FrameJob], aovs: &[Aov], aff: &AffScene, scene_path: &P
             .iter()
             .map(|t| (t.path.as_path(), "a texture of the scene")),
     );
+    inputs
+}
+
+/// Refuses a picture that would overwrite one of the files the scene was read from.
+fn refuse_inputs(jobs: &[FrameJob], aovs: &[Aov], aff: &AffScene, scene_path: &Path) -> Result<(), CliError> {
+    let inputs = aff_inputs(aff, scene_path);
     for job in jobs {
         let beside: Vec<PathBuf> = aovs.iter().map(|&a| beside_path(&job.output, a)).collect();
         let named = Named {

@@ -63,7 +63,7 @@ fn size_table() -> String {
 /// Runs `nffrt gen`.
 pub fn run(args: GenArgs) -> Result<(), CliError> {
     if let Some(path) = &args.output {
-        refuse_image_name(path)?;
+        refuse_image_name(path, "gen")?;
     }
     let size = args.size.unwrap_or(args.name.default_size());
     let scene = generate(args.name, size)
@@ -75,12 +75,13 @@ pub fn run(args: GenArgs) -> Result<(), CliError> {
     }
 }
 
-/// Refuses an output named like an image: `gen` writes scene text, and a picture
-/// of that name is more likely than a scene to be what the user meant to keep.
-fn refuse_image_name(path: &Path) -> Result<(), CliError> {
+/// Refuses an output named like an image: `command` (`gen`, `convert`) writes scene
+/// text, and a picture of that name is more likely than a scene to be what the user
+/// meant to keep.
+pub fn refuse_image_name(path: &Path, command: &str) -> Result<(), CliError> {
     match ImageFormat::from_extension(path) {
         Some(_) => Err(CliError::usage(format!(
-            "-o {}: gen writes NFF scene text, not an image; name the output .nff",
+            "-o {}: {command} writes NFF scene text, not an image; name the output .nff",
             path.display()
         ))),
         None => Ok(()),
@@ -88,7 +89,7 @@ fn refuse_image_name(path: &Path) -> Result<(), CliError> {
 }
 
 /// Writes beside `dest` and renames into place, so `dest` is never half-written.
-fn write_file(scene: &Scene, dest: &Path) -> Result<(), CliError> {
+pub fn write_file(scene: &Scene, dest: &Path) -> Result<(), CliError> {
     let mut out = AtomicOutput::create(dest)?;
     write_nff(scene, out.writer()).map_err(|e| cannot_write(dest.display(), &e))?;
     out.commit()

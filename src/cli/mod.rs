@@ -15,6 +15,7 @@ macro_rules! outln {
 
 mod animation;
 mod bench;
+mod convert;
 mod diff;
 mod finish;
 mod frames;
@@ -102,6 +103,9 @@ struct Cli {
 enum Command {
     /// Write one of the SPD's classic scenes (balls, gears, mount, rings, teapot, tetra, tree) as NFF.
     Gen(gen::GenArgs),
+    /// Write a scene as NFF: an AFF scene's frame (`--frame N`) flattened into plain
+    /// geometry, a P3F scene without what NFF cannot say.
+    Convert(convert::ConvertArgs),
     /// Summarize a scene: primitive counts, lights, materials, resolution, bounds, warnings.
     Info(info::InfoArgs),
     /// Render a scene to an image (PNG, PPM, PFM or OpenEXR), a tile of it, or trace one
@@ -162,6 +166,7 @@ pub fn run() -> i32 {
     interrupt::install();
     let result = match cli.command {
         Command::Gen(a) => gen::run(a),
+        Command::Convert(a) => convert::run(a),
         Command::Info(a) => info::run(a),
         Command::Render(a) => render::run(a),
         Command::Merge(a) => merge::run(a),

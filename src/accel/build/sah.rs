@@ -2,16 +2,18 @@
 //! bounding volume hierarchies"), producing the flat node array directly.
 //!
 //! Each node makes two passes over its items: one bins them on all three axes at
-//! once, one partitions them by the chosen plane while folding the bounds and
-//! centroid bounds of both children (which the children then start from). Subtrees
-//! over [`PARALLEL_ITEMS`] items are built on two threads by `rayon::join`; the right
+//! once (in fewer bins the fewer they are: `binning::bins_for`), one partitions them
+//! by the chosen plane while folding the bounds and centroid bounds of both children
+//! (which the children then start from); a node whose leaf no split can beat makes
+//! neither. On several threads, subtrees over [`PARALLEL_ITEMS`] items and over
+//! [`JOINS_PER_THREAD`] per thread are built on two threads by `rayon::join`; the right
 //! one goes into a vector of its own and is spliced in after the left one, so the
 //! nodes are numbered exactly as the sequential depth-first build numbers them and
 //! the result does not depend on the thread count. Nodes over [`PASS_PER_JOIN`]
 //! times that many items make their two passes in parallel chunks (`parallel`), with
 //! the serial passes' results.
 
-use super::binning::{Binner, Bins, Box4, Item, BINS};
+use super::binning::{bins_for, Binner, Bins, Box4, Item, BINS};
 use super::node::BvhNode;
 use super::parallel;
 use crate::math::Aabb;
@@ -40,8 +42,14 @@ pub const MAX_TREE_DEPTH: u32 = MAX_SAH_DEPTH + u32::BITS + 1;
 /// the new root of a graft (`accel::graft`). Fixed-size traversal stacks are sized
 /// from it.
 pub const MAX_QUERY_DEPTH: u32 = MAX_TREE_DEPTH + 1;
-/// Subtrees over this many primitives are split between threads.
+/// Subtrees over this many primitives are split between threads, on more than one
+/// thread (see [`JOINS_PER_THREAD`]).
 pub const PARALLEL_ITEMS: usize = 4096;
+/// Subtrees are split between threads only down to this many per thread (of about
+/// equal size): enough for the threads to balance their work, few enough that
+/// the right subtrees' nodes, each built in a vector of its own and copied into its
+/// parent's, are not copied once per level of the tree.
+pub const JOINS_PER_THREAD: usize = 8;
 /// Nodes over this many times [`PARALLEL_ITEMS`] primitives, and over the share of
 /// one thread of all of them, bin and partition them on several threads: the top
 /// levels, where `rayon::join` has not yet given every thread a subtree of its own.
@@ -148,10 +156,10 @@ pub fn build(bounds: impl Fn(usize) -> Aabb + Sync, packs: &[Pack]) -> Built {
 }
 
 /// [`build`] over the boxes `bounds`, handing subtrees over `parallel_items`
-/// primitives to `rayon::join` and binning and partitioning nodes over
-/// [`PASS_PER_JOIN`] times that many in parallel chunks (`usize::MAX`: all on the
-/// calling thread), for the tests: the result is the same for any value, and any
-/// number of threads.
+/// primitives (and over [`JOINS_PER_THREAD`] per thread) to `rayon::join` and
+/// binning and partitioning nodes over [`PASS_PER_JOIN`] times that many in parallel
+/// chunks (`usize::MAX`: all on the calling thread), for the tests: the result is
+/// the same for any value, and any number of threads.
 #[cfg(test)]
 pub fn build_with(bounds: &[Aabb], packs: &[Pack], parallel_items: usize) -> Built {
     assert_eq!(bounds.len(), packs.len(), "one kind of block per box");
@@ -182,8 +190,13 @@ pub fn build_with_kinds(
     let parallel_items = parallel_items.max(2 * MAX_LEAF);
     // Below one thread's share the subtrees already keep every thread busy, and the
     // chunked passes would only add work (on one thread, everywhere).
-    let share = items.len() / rayon::current_num_threads() + 1;
+    let threads = rayon::current_num_threads();
+    let share = items.len() / threads + 1;
     let pass_items = parallel_items.saturating_mul(PASS_PER_JOIN).max(share);
+    let join_items = match threads {
+        1 => usize::MAX,
+        _ => parallel_items.max(items.len() / (threads * JOINS_PER_THREAD)),
+    };
     if !items.is_empty() {
         let (b, c) = if items.len() >= pass_items {
             parallel::bounds_of(&items)
@@ -191,7 +204,6 @@ pub fn build_with_kinds(
             Box4::of(&items)
         };
         // Where the chunked partitions gather their results.
-        let threads = rayon::current_num_threads();
         let mut scratch = if items.len() >= pass_items && threads >= PARTITION_THREADS {
             items.par_iter().copied().collect()
         } else {
@@ -201,7 +213,7 @@ pub fn build_with_kinds(
             nodes: &mut nodes,
             depth: &mut depth,
             bins: &mut Bins::new(uniform),
-            parallel_items,
+            parallel_items: join_items,
             pass_items,
         };
         out.subdivide(
@@ -353,7 +365,10 @@ impl Out<'_> {
     /// keeping a leaf is cheaper or no split separates anything.
     fn sah_split(&mut self, items: &mut [Item], scratch: &mut [Item], s: &Span) -> Split {
         let n = items.len();
-        let binner = Binner::new(&s.centroids);
+        if n <= MAX_LEAF && leaf_wins(items, &s.bounds) {
+            return Split::Leaf;
+        }
+        let binner = Binner::new(&s.centroids, bins_for(n));
         if n == 2 {
             return split_pair(items, s, &binner);
         }
@@ -369,7 +384,7 @@ impl Out<'_> {
         for axis in 0..3 {
             let mut used = [0usize; BINS];
             let mut k = 0;
-            for i in 0..BINS {
+            for i in 0..binner.count {
                 used[k] = i;
                 k += (bins.count[axis][i] > 0) as usize;
             }
@@ -504,6 +519,17 @@ fn partition(
         }
     }
     (i, (lb, lc), (rb, rc))
+}
+
+/// True when `items` (a node's, whose bounds are `bounds`) are cheaper as a leaf than
+/// split whatever the split: the leaf costs at most one test ([`TRAVERSAL_COST`]),
+/// which any split costs before its children (`C_trav + (A_L C_L + A_R C_R) / A`
+/// with non-negative areas, or `C_trav` alone when the node has no area). Then the
+/// bins need not be filled: [`Out::sah_split`] would find a leaf. A node's children
+/// lie inside it, so with a finite area their areas are finite too and the cost is
+/// never NaN (which would not compare as more).
+fn leaf_wins(items: &[Item], bounds: &Box4) -> bool {
+    leaf_cost_of(items) <= TRAVERSAL_COST && bounds.surface_area().is_finite()
 }
 
 /// [`leaf_cost`] of `items` as one leaf.
