@@ -20,7 +20,7 @@ use super::{interrupt, CliError};
 use nffrt::aff::FramePart;
 use nffrt::image::{Accumulator, Region, SOFTWARE_TEXT};
 use nffrt::load::Loaded;
-use nffrt::prepare::{prepare_frame, prepare_with, FixedPart};
+use nffrt::prepare::{prepare_frame, prepare_with, FixedPart, RenderScene};
 use nffrt::render::{region_eye_rows, render_region};
 use nffrt::words::count;
 
@@ -97,6 +97,10 @@ pub fn run(
         let mut sum = Accumulator::new();
         let mut last = None;
         for time in times {
+            // The last sub-frame's tree (its picture summed) is this one's spare.
+            if let (Some(done), Some(_)) = (last.take(), &fixed) {
+                spare = Some(RenderScene::into_bvh(done));
+            }
             let t0 = Instant::now();
             let scene = flatten_part(loaded, &FrameJob { time, ..job.clone() }, part)?;
             let t1 = Instant::now();
@@ -116,9 +120,7 @@ pub fn run(
             seconds.flatten += (t1 - t0).as_secs_f64();
             seconds.build += (t2 - t1).as_secs_f64();
             seconds.render += t2.elapsed().as_secs_f64();
-            if let Some(done) = last.replace(scene) {
-                spare = fixed.is_some().then(|| done.into_bvh());
-            }
+            last = Some(scene);
         }
         let t3 = Instant::now();
         let (image, scene) = (sum.mean(), last);
