@@ -89,7 +89,7 @@ fn exit_2_for_usage_errors_in_one_line_each() {
     fails_with(
         &nffrt(&[]),
         2,
-        "no command given: gen, info, render, merge, bench",
+        "no command given: gen, convert, info, render, merge, bench",
     );
     fails_with(
         &nffrt(&["render", s(&scene), "-o", s(&dir.join("x.gif"))]),
