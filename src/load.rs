@@ -25,7 +25,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::aff::{AffScene, AffSource};
+use crate::aff::{AffScene, AffSource, FramePart, MeshMode};
 use crate::image::skybox::{CubeFace, FaceError, FaceImage, Skybox};
 use crate::limits::{DEFAULT_MAX_SCENE_BYTES, MAX_FACE_TEXELS};
 use crate::nff::{parse_format_cancellable, Format, Limits, ParseError, ParseErrorKind};
@@ -393,7 +393,9 @@ fn load_aff(
     };
     let parsed = crate::aff::parse(source, &opts.limits, opts.max_bytes, cancel).map_err(located)?;
     let aff = &parsed.scene;
-    let scene = aff.flatten(aff.time_of_frame(0)).map_err(located)?;
+    let scene = aff
+        .flatten_part(aff.time_of_frame(0), FramePart::All, MeshMode::Instanced)
+        .map_err(located)?;
     Ok((scene, parsed))
 }
 

@@ -9,6 +9,7 @@
 
 use crate::limits::DEFAULT_SHUTTER;
 use crate::math::{Aabb, Vec3};
+use std::sync::Arc;
 
 /// A surface material: the operands of NFF's `f` keyword, or of P3F's `f` / `mat`
 /// with its specular colour (11 numbers), its emitted radiance (14 numbers) and an
@@ -521,6 +522,27 @@ pub struct Scene {
     pub integrator: Option<IntegratorKind>,
     /// What the parser tolerated.
     pub warnings: Vec<Warning>,
+    /// Groups of primitives in their own space, each a scene of which only the
+    /// primitives count, that [`Scene::instances`] place: built once, and shared by
+    /// every frame of an animation.
+    pub prototypes: Arc<Vec<Scene>>,
+    /// Prototypes placed in the scene.
+    pub instances: Vec<Instance>,
+}
+
+/// A prototype ([`Scene::prototypes`]) placed in a scene by an affine transform:
+/// AFF's meshes, built once in their own space rather than copied per placement.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`Scene::prototypes`].
+    pub prototype: u32,
+    /// The transform into the scene: rows of the linear part with the translation as
+    /// a fourth column.
+    pub to_world: [[f64; 4]; 3],
+    /// The material of the prototype's primitives.
+    pub material: u32,
+    /// Line of the entity it came from.
+    pub line: u32,
 }
 
 /// What remains of a [`Scene`] once its primitives are in a render-time structure
@@ -621,7 +643,7 @@ impl Scene {
 
     /// The number of primitives of each kind outside meshes, named as `nffrt info`
     /// names them.
-    pub fn kind_counts(&self) -> [(&'static str, usize); 7] {
+    pub fn kind_counts(&self) -> [(&'static str, usize); 8] {
         [
             ("spheres", self.spheres.len()),
             ("moving_spheres", self.moving_spheres.len()),
@@ -630,6 +652,7 @@ impl Scene {
             ("cones", self.cones.len()),
             ("planes", self.planes.len()),
             ("boxes", self.boxes.len()),
+            ("instances", self.instances.len()),
         ]
     }
 
@@ -673,6 +696,8 @@ impl Scene {
             shutter: _,
             integrator: _,
             warnings: _,
+            prototypes: _,
+            instances,
         } = other;
         let polygon_base = self.polygon_vertices.len() as u32;
         let patch_base = self.patch_vertices.len() as u32;
@@ -733,6 +758,11 @@ impl Scene {
         self.patch_vertices.extend(patch_vertices);
         self.patch_normals.extend(patch_normals);
         self.mesh_vertices.extend(mesh_vertices);
+        // Both pieces place the same prototypes (the caller's to see to).
+        self.instances.extend(instances.into_iter().map(|mut x| {
+            remap(&mut x.material, material);
+            x
+        }));
         self.lights.extend(lights);
     }
 
@@ -796,6 +826,9 @@ impl Scene {
         }
         for x in &self.boxes {
             b = b.union(Aabb::new(x.min, x.max));
+        }
+        for x in &self.instances {
+            b = b.union(self.prototypes[x.prototype as usize].bounds().placed(&x.to_world));
         }
         b
     }

@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use nffrt::aff::{AffScene, FramePart};
+use nffrt::aff::{AffScene, FramePart, MeshMode};
 use nffrt::image::Region;
 use nffrt::load::{load_cancellable, Assets, LoadError, LoadOptions, Source};
 use nffrt::math::Vec3;
@@ -215,12 +215,14 @@ impl PyScene {
     fn frame_at(&self, aff: &AffScene, assets: &Assets, t: f64) -> Result<RenderScene, String> {
         let opts = PrepareOptions::default();
         let fixed = self.fixed.get_or_init(|| {
-            let scene = aff.flatten_part(t, FramePart::Fixed).map_err(|e| e.to_string())?;
+            let scene = aff
+                .flatten_part(t, FramePart::Fixed, MeshMode::Instanced)
+                .map_err(|e| e.to_string())?;
             Ok(FixedPart::new(scene, &opts))
         });
         let fixed = fixed.as_ref().map_err(String::clone)?;
         let moving = aff
-            .flatten_part(t, FramePart::Moving)
+            .flatten_part(t, FramePart::Moving, MeshMode::Instanced)
             .map_err(|e| e.to_string())?;
         Ok(prepare_frame(fixed, moving, None, assets, &opts)
             .expect("a fixed part that never lends its arrays grafts into a copy of them"))

@@ -54,6 +54,10 @@ pub struct Bvh {
     /// 0, or the [`Rootstock`](super::graft::Rootstock) this tree was grafted onto:
     /// its first entries are the stock's, which a later graft may keep.
     pub(super) stock: u64,
+    /// 0 for a scene's tree, 1 for a prototype's ([`Bvh::prototype`]): which of a
+    /// thread's traversal stacks its queries use, so that a prototype's runs inside
+    /// the scene's query that met its instance.
+    pub(super) level: u8,
     /// The AVX kernels, when the CPU has them (detected once, at build time).
     #[cfg(target_arch = "x86_64")]
     pub(super) avx: Option<Avx>,
@@ -142,8 +146,18 @@ impl Bvh {
             depth,
             kinds,
             stock: 0,
+            level: 0,
             #[cfg(target_arch = "x86_64")]
             avx: Avx::detect(),
+        }
+    }
+
+    /// Builds the hierarchy over a prototype's primitives, which instances place
+    /// ([`crate::geometry::Prototype`]): queried from inside a scene's queries.
+    pub fn prototype(geometry: Geometry) -> Bvh {
+        Bvh {
+            level: 1,
+            ..Bvh::new(geometry)
         }
     }
 

@@ -56,6 +56,8 @@ struct StockShape {
     points_2d: usize,
     normals: usize,
     uvs: usize,
+    /// Entries of [`GeometryData::instances`].
+    instances: usize,
     depth: u32,
     copies: Option<Copies>,
 }
@@ -74,6 +76,8 @@ struct Offsets {
     normals: u32,
     /// Entries of [`GeometryData::polygon_points_2d`].
     points_2d: u32,
+    /// Entries of [`GeometryData::instances`].
+    instances: u32,
     /// The low half of a rank: past the fixed part's primitives as built.
     rank: u64,
 }
@@ -98,6 +102,7 @@ impl Rootstock {
             bounded: 0,
             normals: 0,
             points_2d: 0,
+            instances: 0,
             rank: 0,
         };
         let nodes = std::mem::take(&mut base.wide);
@@ -126,6 +131,7 @@ impl Rootstock {
             points_2d: base.data.polygon_points_2d.len(),
             normals: base.data.patch_normals.len(),
             uvs: base.data.patch_uvs.len(),
+            instances: base.data.instances.len(),
             depth: base.depth,
             copies: base.copies.clone(),
         };
@@ -169,6 +175,7 @@ impl Rootstock {
             bounded: fb as u32,
             normals: base.normals as u32,
             points_2d: base.points_2d as u32,
+            instances: base.instances as u32,
             rank: self.rank,
         };
         // Back to the fixed part's entries, then the moving part's appended (the
@@ -252,8 +259,7 @@ impl BlockPrims for Cone4 {
 
 /// The box around every lane of `node`.
 fn node_bounds(node: &Node8) -> Aabb {
-    (0..WIDTH)
-        .filter(|&lane| node.child[lane] != u32::MAX || node.count[lane] != 0)
+    node.used_lanes()
         .map(|lane| node.lane_bounds(lane))
         .fold(Aabb::EMPTY, Aabb::union)
 }
@@ -294,6 +300,7 @@ fn moved_primitive(p: &Primitive, moved: Offsets) -> Primitive {
     match &mut p.shape {
         Shape::Triangle(t) if t.normals != Triangle::FLAT => t.normals += moved.normals,
         Shape::Polygon(poly) => poly.first += moved.points_2d,
+        Shape::Instance(i) => *i += moved.instances,
         _ => {}
     }
     p
@@ -314,6 +321,8 @@ fn append_data(data: &mut GeometryData, fixed: &StockShape, moving: &GeometryDat
         data.patch_uvs.extend_from_slice(&moving.patch_uvs);
         data.patch_uvs.resize(data.patch_normals.len(), [0.0; 2]);
     }
+    data.instances.truncate(fixed.instances);
+    data.instances.extend_from_slice(&moving.instances);
 }
 
 /// The split cones' bookkeeping of the grafted tree: `None` when neither part has

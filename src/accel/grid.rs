@@ -226,9 +226,7 @@ impl Grid {
                 blocked = items.iter().any(|&i| {
                     mailbox.first_visit(i) && {
                         tally.prims(1);
-                        bvh.primitives[i as usize]
-                            .intersect(ray, t_max, &bvh.data)
-                            .is_some()
+                        bvh.primitives[i as usize].occludes(ray, t_max, &bvh.data)
                     }
                 });
                 blocked

@@ -35,7 +35,7 @@ impl Bvh {
         }
         self.primitives[self.bounded..].iter().any(|p| {
             tally.prims(1);
-            p.intersect(ray, t_max, &self.data).is_some()
+            p.occludes(ray, t_max, &self.data)
         })
     }
 
@@ -57,9 +57,7 @@ impl Bvh {
     pub fn scan_occluded<T: Tally>(&self, ray: &Ray, t_max: f32, tally: &mut T) -> bool {
         self.distinct_bounded().any(|i| {
             tally.prims(1);
-            self.primitives[i as usize]
-                .intersect(ray, t_max, &self.data)
-                .is_some()
+            self.primitives[i as usize].occludes(ray, t_max, &self.data)
         }) || self.unbounded_occluded(ray, t_max, tally)
     }
 

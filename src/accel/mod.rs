@@ -55,6 +55,7 @@ mod graft;
 mod grid;
 mod leaf;
 mod linear;
+mod prototype;
 pub mod simd;
 mod tally;
 mod traverse;

@@ -9,13 +9,14 @@
 //! ([`Material::texture`]); the textures themselves are shared, not copied.
 
 use super::error::AffError;
+use super::instances::MeshMode;
 use super::mesh::MeshGeometry;
 use super::scene::{AffScene, Location, NodeTransform, Object, Shape};
 use super::transform::Affine;
 use crate::math::Vec3;
 use crate::nff::{is_degenerate, ParseError, ParseErrorKind};
 use crate::scene::{
-    Cone, Dialect, Material, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning,
+    Cone, Dialect, Instance, Material, Mesh, MeshTriangle, Patch, Polygon, Scene, Sphere, View, Warning,
 };
 
 /// Which of a frame's objects [`AffScene::flatten_part`] places.
@@ -36,14 +37,16 @@ impl AffScene {
     /// overflows, a sphere or cone under a non-uniform scale, or a camera left
     /// without a direction.
     pub fn flatten(&self, t: f64) -> Result<Scene, AffError> {
-        self.flatten_part(t, FramePart::All)
+        self.flatten_part(t, FramePart::All, MeshMode::Copied)
     }
 
-    /// [`AffScene::flatten`] keeping only the objects of `part`; the camera, lights
-    /// and materials are the frame's whatever the part, and the material table is
-    /// the same for every part and time (a textured mesh's material copy has one
-    /// index), so that a frame's fixed and moving parts can be built apart.
-    pub fn flatten_part(&self, t: f64, part: FramePart) -> Result<Scene, AffError> {
+    /// [`AffScene::flatten`] keeping only the objects of `part`, its meshes placed as
+    /// `meshes` says; the camera, lights and materials are the frame's whatever the
+    /// part, and the material table is the same for every part and time (a textured
+    /// mesh's material copy has one index), so that a frame's fixed and moving parts
+    /// can be built apart. Instances place the same prototypes
+    /// ([`Scene::prototypes`], shared) in every frame.
+    pub fn flatten_part(&self, t: f64, part: FramePart, meshes: MeshMode) -> Result<Scene, AffError> {
         let world = self.node_transforms(t);
         let shown = self.node_visibility(t);
         let mut out = Scene {
@@ -68,10 +71,26 @@ impl AffScene {
             light.position = self.light_position_at(i, t, &world);
             out.lights.push(light);
         }
-        for object in &self.objects {
+        let prototypes = match meshes {
+            MeshMode::Instanced => {
+                let p = self.prototypes();
+                out.prototypes = p.scenes.clone();
+                Some(&p.of_object)
+            }
+            MeshMode::Copied => None,
+        };
+        for (i, object) in self.objects.iter().enumerate() {
             let node = object.node as usize;
-            if shown[node] && wanted(node) {
-                self.place(object, &world[node], &textured, &mut out)?;
+            if !(shown[node] && wanted(node)) {
+                continue;
+            }
+            match (prototypes.and_then(|p| p[i]), object.shape) {
+                (Some(prototype), Shape::Mesh(g)) => {
+                    let g = &self.meshes.geometries[g as usize];
+                    let material = self.mesh_material(g, object.material, &textured);
+                    self.place_instance(object, prototype, material, &world[node], &mut out)?
+                }
+                _ => self.place(object, &world[node], &textured, &mut out)?,
             }
         }
         for tri in &self.animated_triangles {
@@ -106,7 +125,7 @@ impl AffScene {
 
     /// The textured copies of materials every textured mesh needs, added to
     /// `materials` in the order of the objects that first need them.
-    fn textured_materials(&self, materials: &mut Vec<Material>) -> TexturedMaterials {
+    pub(super) fn textured_materials(&self, materials: &mut Vec<Material>) -> TexturedMaterials {
         let mut textured = TexturedMaterials::default();
         for object in &self.objects {
             if let Shape::Mesh(g) = object.shape {
@@ -133,9 +152,7 @@ impl AffScene {
         match object.shape {
             Shape::Mesh(g) => {
                 let g = &self.meshes.geometries[g as usize];
-                if let (Some(texture), true) = (g.texture, g.uvs.count > 0) {
-                    material = textured.of(material, texture);
-                }
+                material = self.mesh_material(g, material, textured);
                 self.place_mesh(g, m, material, line, out)
             }
             Shape::Polygon(i) => {
@@ -195,10 +212,45 @@ impl AffScene {
         self.check_finite(out, before, object.at)
     }
 
+    /// Adds `object`, a mesh, as an instance of `prototype` under `material`, placed
+    /// by `m`: refused, as a copy would be, where `m` takes it past f32's range.
+    fn place_instance(
+        &self,
+        object: &Object,
+        prototype: u32,
+        material: u32,
+        m: &Affine,
+        out: &mut Scene,
+    ) -> Result<(), AffError> {
+        let placed = out.prototypes[prototype as usize].bounds().placed(&m.rows);
+        if !(m.is_finite() && placed.min.is_finite() && placed.max.is_finite()) {
+            return Err(self.error(
+                object.at,
+                "its transforms take it past the range of numbers (f32)".into(),
+            ));
+        }
+        out.instances.push(Instance {
+            prototype,
+            to_world: m.rows,
+            material,
+            line: object.at.line,
+        });
+        Ok(())
+    }
+
+    /// The material a mesh's triangles take: `material`, or its textured copy in
+    /// `textured` for a textured mesh.
+    pub(super) fn mesh_material(&self, g: &MeshGeometry, material: u32, textured: &TexturedMaterials) -> u32 {
+        match (g.texture, g.uvs.count > 0) {
+            (Some(texture), true) => textured.of(material, texture),
+            _ => material,
+        }
+    }
+
     /// Adds one mesh's triangles under `m`: as patches if it has normals or is
     /// textured (with its texture coordinates), else as a mesh. Triangles left
     /// without area (under a zero scale) are left out.
-    fn place_mesh(&self, g: &MeshGeometry, m: &Affine, material: u32, line: u32, out: &mut Scene) {
+    pub(super) fn place_mesh(&self, g: &MeshGeometry, m: &Affine, material: u32, line: u32, out: &mut Scene) {
         let pool = &self.meshes;
         let points: Vec<Vec3> = pool.positions[g.positions.range()]
             .iter()
@@ -378,7 +430,7 @@ fn push_patch(out: &mut Scene, corners: Corners, material: u32, line: u32) {
 
 /// The textured copies of materials: `(material, texture)` to the copy's index.
 #[derive(Default)]
-struct TexturedMaterials(std::collections::HashMap<(u32, u32), u32>);
+pub(super) struct TexturedMaterials(std::collections::HashMap<(u32, u32), u32>);
 
 impl TexturedMaterials {
     /// Adds a copy of `material` textured with `texture` to `materials`, unless

@@ -45,6 +45,7 @@ mod error;
 mod flatten;
 mod hierarchy;
 mod include;
+mod instances;
 mod keyframes;
 mod keywords;
 mod mesh;
@@ -64,6 +65,7 @@ use std::sync::Arc;
 
 pub use error::AffError;
 pub use flatten::FramePart;
+pub use instances::MeshMode;
 pub use mesh::{MeshGeometry, MeshTriangle, Meshes, Span};
 pub use scene::{
     AffScene, AffWarning, AnimatedTriangle, AnimationSpan, FillMaterial, LightPlace, Location, Node,

@@ -267,6 +267,8 @@ pub struct AffScene {
     pub skipped_inclusions: usize,
     /// What the parser tolerated.
     pub warnings: Vec<AffWarning>,
+    /// The meshes' prototypes, worked out when a frame first places them.
+    pub(super) lazy_prototypes: super::instances::LazyPrototypes,
 }
 
 impl AffScene {

@@ -5,7 +5,7 @@
 
 use std::ops::{Add, Mul, Neg, Sub};
 
-use crate::math::Vec3;
+use crate::math::{mat3, Vec3};
 
 /// A unit quaternion `w + xi + yj + zk` (the rotation code of the original
 /// distribution, `quat.cpp`, works on these).
@@ -252,21 +252,13 @@ impl Affine {
 
     /// The determinant of the linear part.
     pub fn determinant(&self) -> f64 {
-        let m = self.linear();
-        let c = self.cofactors();
-        m[0][0] * c[0][0] + m[0][1] * c[0][1] + m[0][2] * c[0][2]
+        mat3::determinant(self.linear(), self.cofactors())
     }
 
     /// The cofactor matrix of the linear part: its determinant times its inverse
     /// transpose.
     fn cofactors(&self) -> [[f64; 3]; 3] {
-        let m = self.linear();
-        let cof = |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
-        [
-            [cof(1, 2, 1, 2), -cof(1, 2, 0, 2), cof(1, 2, 0, 1)],
-            [-cof(0, 2, 1, 2), cof(0, 2, 0, 2), -cof(0, 2, 0, 1)],
-            [cof(0, 1, 1, 2), -cof(0, 1, 0, 2), cof(0, 1, 0, 1)],
-        ]
+        mat3::cofactors(self.linear())
     }
 
     /// The common length its linear part gives every vector, if it is a similarity

@@ -16,13 +16,12 @@ use super::render::render_error;
 use super::values::{self, whole_number};
 use super::CliError;
 use nffrt::accel::{Aggregate, Bvh, Coherence, QueryCounts, Ray8, PACKET};
-use nffrt::geometry::build_geometry;
 use nffrt::image::Region;
 use nffrt::limits::MAX_THREADS;
 use nffrt::load::Loaded;
 use nffrt::math::{Ray, Vec3};
 use nffrt::options::{RenderOptions, RenderRequest};
-use nffrt::prepare::{prepare_with, PrepareOptions};
+use nffrt::prepare::{prepare_with, scene_geometry, PrepareOptions};
 use nffrt::render::{render, Camera};
 use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
@@ -137,14 +136,15 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         .build()
         .map_err(|e| CliError::io(format!("cannot start threads: {e}")))?;
 
-    // Whole builds (the scene's conversion to primitives, then `Bvh::new`), and
+    // Whole builds (the scene's conversion to primitives, instances' prototypes
+    // built, then `Bvh::new`), and
     // `Bvh::new` alone: the part a peer given triangles in its buffers also does.
     let (mut builds, mut bvh_builds) = (Vec::new(), Vec::new());
     let mut bvh = None;
     for _ in 0..args.repeat.max(3) {
         let t0 = Instant::now();
         let b = pool.install(|| {
-            let geometry = build_geometry(scene);
+            let geometry = scene_geometry(scene);
             let t1 = Instant::now();
             let b = Bvh::new(geometry);
             bvh_builds.push(t1.elapsed().as_secs_f64() * 1e3);

@@ -10,7 +10,7 @@ use clap::Args;
 use super::finish::beside_path;
 use super::output::{refuse_overwriting, Named};
 use super::CliError;
-use nffrt::aff::{AffScene, FramePart};
+use nffrt::aff::{AffScene, FramePart, MeshMode};
 use nffrt::limits::MAX_MOTION_BLUR_SUBFRAMES;
 use nffrt::load::Loaded;
 use nffrt::render::Aov;
@@ -41,6 +41,11 @@ pub struct FrameArgs {
     /// are built once, and each frame builds only what moves).
     #[arg(long, requires = "frames")]
     pub rebuild_whole: bool,
+    /// Copy every mesh of an AFF scene into world space each frame, as the
+    /// comparison for benchmarks and memory (default: a mesh placed more than once,
+    /// or moved by keyframes, is an instance of one built once in its own space).
+    #[arg(long)]
+    pub flatten_meshes: bool,
     #[arg(long, value_name = "K", allow_negative_numbers = true,
           help = format!("Motion blur across each frame's interval (an AFF scene's): the frame shown at \
                           time t is the mean, in linear floats, of K sub-frames flattened at t + (i + 0.5) \
@@ -55,7 +60,11 @@ pub struct FrameArgs {
 impl FrameArgs {
     /// True if any of the options is given.
     pub fn any(&self) -> bool {
-        self.frame.is_some() || self.time.is_some() || self.frames.is_some() || self.motion_blur.is_some()
+        self.frame.is_some()
+            || self.time.is_some()
+            || self.frames.is_some()
+            || self.motion_blur.is_some()
+            || self.flatten_meshes
     }
 
     /// The flag given, for messages.
@@ -64,7 +73,8 @@ impl FrameArgs {
             (Some(_), _, _) => "--frame",
             (_, Some(_), _) => "--time",
             (_, _, Some(_)) => "--frames",
-            _ => "--motion-blur",
+            _ if self.motion_blur.is_some() => "--motion-blur",
+            _ => "--flatten-meshes",
         }
     }
 }
@@ -98,6 +108,8 @@ pub struct FrameJob {
     pub time: f64,
     /// Where its picture goes.
     pub output: PathBuf,
+    /// How its meshes are placed.
+    pub meshes: MeshMode,
 }
 
 /// An output name with at most one printf-style integer field: `%d`, `%4d` or
@@ -197,7 +209,8 @@ pub fn plan(
         (Some(n), _, _) => vec![Some(n)],
         (_, Some(_), _) => vec![None],
         (_, _, Some((a, b))) => (a..=b).map(Some).collect(),
-        // --motion-blur alone: frame 0, as a render without frame options.
+        // --motion-blur or --flatten-meshes alone: frame 0, as a render without
+        // frame options.
         _ => vec![Some(0)],
     };
     if args.motion_blur.is_some() && aff.span.is_none() {
@@ -234,6 +247,10 @@ pub fn plan(
             time: number.map_or_else(|| args.time.unwrap_or_default(), |n| aff.time_of_frame(n)),
             // `--time` has no frame number: its field shows 0.
             output: pattern.expand(number.unwrap_or(0)),
+            meshes: match args.flatten_meshes {
+                true => MeshMode::Copied,
+                false => MeshMode::Instanced,
+            },
         })
         .collect();
     refuse_inputs(&jobs, aovs, aff, scene_path)?;
@@ -252,7 +269,7 @@ pub fn flatten_part(loaded: &Loaded, job: &FrameJob, part: FramePart) -> Result<
         .aff
         .as_deref()
         .expect("frames are planned for AFF scenes only");
-    aff.flatten_part(job.time, part)
+    aff.flatten_part(job.time, part, job.meshes)
         .map_err(|e| CliError::scene(format!("{}: {e}", job.name())))
 }
 

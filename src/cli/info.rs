@@ -10,9 +10,9 @@ use super::load::{load_scene, print_warnings, Need};
 use super::CliError;
 use nffrt::accel::{Bvh, BvhStats};
 use nffrt::aff::AffSummary;
-use nffrt::geometry::build_geometry;
 use nffrt::image::Encoding;
 use nffrt::options::display_encoding;
+use nffrt::prepare::scene_geometry;
 use nffrt::scene::{Accel, IntegratorKind};
 use nffrt::words::count;
 
@@ -45,7 +45,7 @@ struct BvhInfo {
 
 fn bvh_info(scene: &nffrt::Scene) -> BvhInfo {
     let t0 = std::time::Instant::now();
-    let bvh = Bvh::new(build_geometry(scene));
+    let bvh = Bvh::new(scene_geometry(scene));
     let build_s = t0.elapsed().as_secs_f64();
     let bounds = bvh.bounds();
     BvhInfo {
@@ -292,10 +292,26 @@ pub fn run(args: InfoArgs) -> Result<(), CliError> {
     outln!("materials   {}{finish}", s.materials.len());
     outln!("primitives  {}", s.primitive_count());
     for (name, n) in s.kind_counts() {
-        if n > 0 {
+        if n > 0 && name != "instances" {
             // (A name of ten letters or more still gets a space.)
             outln!("  {name:<9} {n}");
         }
+    }
+    if !s.instances.is_empty() {
+        let placed: usize = s
+            .instances
+            .iter()
+            .map(|x| s.prototypes[x.prototype as usize].primitive_count())
+            .sum();
+        let built: usize = s.prototypes.iter().map(nffrt::Scene::primitive_count).sum();
+        outln!(
+            "  {:<10}{} of {} built once ({}), placing {}",
+            "instances",
+            s.instances.len(),
+            count(s.prototypes.len(), "prototype", "prototypes"),
+            count(built, "triangle", "triangles"),
+            count(placed, "triangle", "triangles")
+        );
     }
     if !s.meshes.is_empty() {
         outln!(

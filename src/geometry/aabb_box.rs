@@ -85,7 +85,12 @@ impl BoxShape {
             return None;
         }
         let t = if s.enter > 0.0 { s.enter } else { s.exit };
-        (t > 0.0 && t < t_max).then_some(Hit { t, u: 0.0, v: 0.0 })
+        (t > 0.0 && t < t_max).then_some(Hit {
+            t,
+            u: 0.0,
+            v: 0.0,
+            part: 0,
+        })
     }
 
     /// Phase two: the hit point and the outward normal of the face it lies on (the

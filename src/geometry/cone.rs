@@ -154,7 +154,12 @@ impl ConeShape {
             // Half the derivative of |q|² − r² along the ray: > 0 where the ray leaves.
             let leaving = a * tau + b > 0.0;
             if t > 0.0 && t < t_max && h >= 0.0 && h <= self.length && (!self.inside || leaving) {
-                return Some(Hit { t, u: 0.0, v: 0.0 });
+                return Some(Hit {
+                    t,
+                    u: 0.0,
+                    v: 0.0,
+                    part: 0,
+                });
             }
         }
         None

@@ -13,6 +13,7 @@
 //! | `pl` | one [`PlaneShape`] |
 //! | `aabb`, P3F `box` | one [`BoxShape`] |
 //! | P3F `mesh` | one flat [`Triangle`] per triangle, with the line of its indices |
+//! | an instance (AFF's meshes) | one [`Shape::Instance`] ([`place_instances`]) |
 //!
 //! Patches always become fans: the SPD's patches are triangles and a patch is meant
 //! to be a small convex piece of a smooth surface. A concave patch is therefore
@@ -23,13 +24,34 @@
 //! order, so the result is deterministic.
 
 use super::{
-    BoxShape, ConeShape, Geometry, GeometryData, MovingSphereShape, PlaneShape, PolygonShape, Primitive,
-    Shape, SourceKind, SphereShape, Triangle,
+    BoxShape, ConeShape, Geometry, GeometryData, MovingSphereShape, Placement, PlaneShape, PolygonShape,
+    Primitive, Prototype, Shape, SourceKind, SphereShape, Triangle,
 };
 use crate::math::Vec3;
 use crate::pages::huge_vec;
 use crate::scene::{Polygon, Scene};
 use rayon::prelude::*;
+use std::sync::Arc;
+
+/// Adds `scene`'s instances ([`Scene::instances`]) to `g`, after its other
+/// primitives: each one [`Shape::Instance`] placing `built[i]`, the structure built
+/// over prototype `i`. An instance whose transform cannot be inverted (a zero scale
+/// leaves nothing to see) or takes its prototype past f32's range is left out, as
+/// a flattened copy's triangles without area would be.
+pub fn place_instances(scene: &Scene, built: &[Arc<dyn Prototype>], g: &mut Geometry) {
+    for x in &scene.instances {
+        let Some(placement) = Placement::new(built[x.prototype as usize].clone(), x.to_world) else {
+            continue;
+        };
+        g.primitives.push(Primitive {
+            shape: Shape::Instance(g.data.instances.len() as u32),
+            material: x.material,
+            line: x.line,
+            kind: SourceKind::Mesh,
+        });
+        g.data.instances.push(placement);
+    }
+}
 
 /// Converts every primitive of `scene` (see the module docs for the mapping), its
 /// moving spheres for the scene's own shutter ([`Scene::shutter_interval`]).

@@ -21,6 +21,7 @@
 pub mod aabb_box;
 pub mod cone;
 mod convert;
+pub mod instance;
 pub mod moving_sphere;
 pub mod plane;
 pub mod polygon;
@@ -35,7 +36,8 @@ use crate::math::{Aabb, Ray, Vec3};
 
 pub use aabb_box::BoxShape;
 pub use cone::ConeShape;
-pub use convert::{build_geometry, build_geometry_for_shutter};
+pub use convert::{build_geometry, build_geometry_for_shutter, place_instances};
+pub use instance::{Placement, Prototype};
 pub use moving_sphere::MovingSphereShape;
 pub use plane::PlaneShape;
 pub use polygon::PolygonShape;
@@ -52,6 +54,9 @@ pub struct Hit {
     pub u: f32,
     /// Second surface parameter (barycentric weight of vertex 2 for triangles).
     pub v: f32,
+    /// On an instance, the index of the prototype's primitive met (see
+    /// [`instance`]); 0 elsewhere.
+    pub part: u32,
 }
 
 /// The result of phase two: the hit point and its normals (world space, unit length).
@@ -75,6 +80,8 @@ pub struct GeometryData {
     /// Texture coordinates of patch triangles' vertices: empty (a scene without
     /// textures), or parallel to `patch_normals`.
     pub patch_uvs: Vec<[f32; 2]>,
+    /// The placements that [`Shape::Instance`] refers to.
+    pub instances: Vec<Placement>,
 }
 
 /// The shape of one render-time primitive.
@@ -94,6 +101,8 @@ pub enum Shape {
     Plane(PlaneShape),
     /// A solid axis-aligned box.
     Box(BoxShape),
+    /// A placed prototype: index into [`GeometryData::instances`].
+    Instance(u32),
 }
 
 /// Which NFF entity a primitive came from.
@@ -170,6 +179,7 @@ impl Primitive {
             Shape::Cone(s) => Some(s.bounds()),
             Shape::Plane(_) => None,
             Shape::Box(s) => Some(s.bounds()),
+            Shape::Instance(i) => Some(data.instances[*i as usize].bounds()),
         }
     }
 
@@ -184,6 +194,17 @@ impl Primitive {
             Shape::Cone(s) => s.intersect(ray, t_max),
             Shape::Plane(s) => s.intersect(ray, t_max),
             Shape::Box(s) => s.intersect(ray, t_max),
+            Shape::Instance(i) => data.instances[*i as usize].intersect(ray, t_max),
+        }
+    }
+
+    /// True if the primitive lies along `ray` with `0 < t < t_max`: an instance asks
+    /// its prototype for any hit, the rest for their hit.
+    #[inline(always)]
+    pub fn occludes(&self, ray: &Ray, t_max: f32, data: &GeometryData) -> bool {
+        match &self.shape {
+            Shape::Instance(i) => data.instances[*i as usize].occludes(ray, t_max),
+            _ => self.intersect(ray, t_max, data).is_some(),
         }
     }
 
@@ -208,6 +229,7 @@ impl Primitive {
     pub fn texcoords(&self, hit: &Hit, data: &GeometryData) -> Option<[f32; 2]> {
         match &self.shape {
             Shape::Triangle(s) => s.texcoords(hit, data),
+            Shape::Instance(i) => data.instances[*i as usize].texcoords(hit),
             _ => None,
         }
     }
@@ -223,6 +245,7 @@ impl Primitive {
             Shape::Cone(s) => s.surface(ray, hit),
             Shape::Plane(s) => s.surface(ray, hit),
             Shape::Box(s) => s.surface(ray, hit),
+            Shape::Instance(i) => data.instances[*i as usize].surface(ray, hit),
         }
     }
 }

@@ -38,7 +38,12 @@ impl PlaneShape {
         }
         // n · (o + t d − p) = 0.
         let t = self.normal.dot(self.point - ray.origin) / denom;
-        (t > 0.0 && t < t_max).then_some(Hit { t, u: 0.0, v: 0.0 })
+        (t > 0.0 && t < t_max).then_some(Hit {
+            t,
+            u: 0.0,
+            v: 0.0,
+            part: 0,
+        })
     }
 
     /// Phase two: the hit point and the plane's normal.

@@ -122,7 +122,12 @@ impl PolygonShape {
         }
         let first = self.first as usize;
         let outline = data.polygon_points_2d.get(first..first + self.count())?;
-        crossings_inside(outline, x, y).then_some(Hit { t, u: 0.0, v: 0.0 })
+        crossings_inside(outline, x, y).then_some(Hit {
+            t,
+            u: 0.0,
+            v: 0.0,
+            part: 0,
+        })
     }
 
     /// Phase two: the hit point and the plane normal.

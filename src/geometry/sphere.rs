@@ -82,6 +82,7 @@ impl SphereShape {
                 t: t0,
                 u: 0.0,
                 v: 0.0,
+                part: 0,
             });
         }
         // The far root is where the ray leaves the sphere; an inside-only sphere takes
@@ -91,6 +92,7 @@ impl SphereShape {
                 t: t1,
                 u: 0.0,
                 v: 0.0,
+                part: 0,
             });
         }
         None

@@ -74,7 +74,7 @@ impl Triangle {
             Some(found) => found,
             None => self.intersect_exact(ray, t_max),
         };
-        (hit != 0).then_some(Hit { t, u, v })
+        (hit != 0).then_some(Hit { t, u, v, part: 0 })
     }
 
     /// [`Triangle::intersect_sheared`] when an edge function came out zero.

@@ -85,6 +85,33 @@ impl Aabb {
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
 
+    /// The box around this box's corners under the affine map `m` (rows of the
+    /// linear part with the translation as a fourth column), computed in f64 and
+    /// widened by a relative 1e-6, so that it holds the corners' images however f32
+    /// arithmetic rounds them; the empty box for an empty box.
+    pub fn placed(&self, m: &[[f64; 4]; 3]) -> Aabb {
+        if self.is_empty() {
+            return Aabb::EMPTY;
+        }
+        let (lo, hi) = (self.min.to_array(), self.max.to_array());
+        let mut min = [f64::INFINITY; 3];
+        let mut max = [f64::NEG_INFINITY; 3];
+        for corner in 0..8 {
+            let p: [f64; 3] =
+                std::array::from_fn(|k| f64::from(if corner >> k & 1 == 0 { lo[k] } else { hi[k] }));
+            for (i, r) in m.iter().enumerate() {
+                let v = r[0] * p[0] + r[1] * p[1] + r[2] * p[2] + r[3];
+                min[i] = min[i].min(v);
+                max[i] = max[i].max(v);
+            }
+        }
+        let pad = |i: usize| 1e-6 * min[i].abs().max(max[i].abs()) + f64::from(f32::MIN_POSITIVE);
+        Aabb::new(
+            Vec3::from_array(std::array::from_fn(|i| (min[i] - pad(i)) as f32)),
+            Vec3::from_array(std::array::from_fn(|i| (max[i] + pad(i)) as f32)),
+        )
+    }
+
     /// True when `o` lies inside this box (boundaries included).
     pub fn contains(&self, o: &Aabb) -> bool {
         o.min.x >= self.min.x

@@ -3,6 +3,7 @@
 
 mod aabb;
 mod lanes;
+pub mod mat3;
 mod ray;
 mod vec3;
 

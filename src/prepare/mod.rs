@@ -28,12 +28,13 @@ pub use emitters::Emitters;
 pub use lighting::{LightQuad, LightSource, Lighting, Model};
 
 use crate::accel::{Aggregate, Bvh, Rootstock};
-use crate::geometry::{build_geometry_for_shutter, Hit, Primitive};
+use crate::geometry::{build_geometry_for_shutter, place_instances, Geometry, Hit, Primitive, Prototype};
 use crate::image::skybox::FaceError;
 use crate::image::Texture;
 use crate::load::Assets;
 use crate::math::Vec3;
 use crate::scene::{Accel, Material, Scene, SceneInfo, View};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A scene ready to render (see the module docs).
@@ -70,7 +71,7 @@ pub fn prepare(scene: Scene, assets: &Assets) -> RenderScene {
 
 /// Prepares `scene` with the files it names, `assets`, and the choices of `opts`.
 pub fn prepare_with(scene: Scene, assets: &Assets, opts: &PrepareOptions) -> RenderScene {
-    let (bvh, info, textures) = build(scene, opts);
+    let (bvh, info, textures) = build(scene, opts, None);
     assemble(bvh, info, textures, assets, opts)
 }
 
@@ -89,7 +90,7 @@ pub fn prepare_frame(
     assets: &Assets,
     opts: &PrepareOptions,
 ) -> Option<RenderScene> {
-    let (bvh, mut info, textures) = build(moving, opts);
+    let (bvh, mut info, textures) = build(moving, opts, fixed.prototypes.as_ref());
     info.include_counts(&fixed.info);
     let tree = fixed.stock.graft(bvh, spare)?;
     Some(assemble(tree, info, textures, assets, opts))
@@ -100,15 +101,20 @@ pub fn prepare_frame(
 pub struct FixedPart {
     stock: Rootstock,
     info: SceneInfo,
+    /// The prototypes of the frames' instances, built once for all of them.
+    prototypes: Option<Prototypes>,
 }
 
 impl FixedPart {
-    /// Builds the primitives of `scene` (its other settings are the frames').
+    /// Builds the primitives of `scene` (its other settings are the frames'), and the
+    /// prototypes it and the frames' moving parts place.
     pub fn new(scene: Scene, opts: &PrepareOptions) -> FixedPart {
-        let (bvh, info, _) = build(scene, opts);
+        let prototypes = (!scene.prototypes.is_empty()).then(|| Prototypes::build(&scene.prototypes));
+        let (bvh, info, _) = build(scene, opts, prototypes.as_ref());
         FixedPart {
             stock: Rootstock::new(bvh),
             info,
+            prototypes,
         }
     }
 
@@ -120,17 +126,76 @@ impl FixedPart {
     }
 }
 
+/// The structures built over a scene's prototypes ([`Scene::prototypes`]), once for
+/// every scene that places them.
+struct Prototypes {
+    /// What they were built from.
+    source: Arc<Vec<Scene>>,
+    /// A BVH over each prototype's primitives, in their own space.
+    built: Vec<Arc<dyn Prototype>>,
+}
+
+impl Prototypes {
+    /// Builds each of `source`'s prototypes.
+    fn build(source: &Arc<Vec<Scene>>) -> Prototypes {
+        let built = source
+            .par_iter()
+            .map(|p| {
+                Arc::new(Bvh::prototype(build_geometry_for_shutter(
+                    p,
+                    p.shutter_interval(),
+                ))) as Arc<dyn Prototype>
+            })
+            .collect();
+        Prototypes {
+            source: source.clone(),
+            built,
+        }
+    }
+}
+
 /// `scene`'s primitives built into a BVH, its summary and its textures (the scene's
-/// lists freed before the build: the memory peak).
-fn build(scene: Scene, opts: &PrepareOptions) -> (Bvh, SceneInfo, Vec<Arc<Texture>>) {
+/// lists freed before the build: the memory peak). Its instances place
+/// `prototypes` when they were built from the scene's prototypes.
+fn build(
+    scene: Scene,
+    opts: &PrepareOptions,
+    prototypes: Option<&Prototypes>,
+) -> (Bvh, SceneInfo, Vec<Arc<Texture>>) {
     let info = scene.info();
     let shutter = opts.shutter.unwrap_or(info.shutter);
-    let geometry = build_geometry_for_shutter(&scene, shutter);
+    let geometry = geometry_of(&scene, shutter, prototypes);
     let textures = {
         let mut scene = scene;
         std::mem::take(&mut scene.textures)
     };
     (Bvh::new(geometry), info, textures)
+}
+
+/// Every render-time primitive of `scene`, its moving spheres bounded over
+/// `shutter`, with its instances placing `prototypes` when they were built from
+/// the scene's prototypes, else prototypes built here.
+fn geometry_of(scene: &Scene, shutter: [f32; 2], prototypes: Option<&Prototypes>) -> Geometry {
+    let mut geometry = build_geometry_for_shutter(scene, shutter);
+    if !scene.instances.is_empty() {
+        let own;
+        let prototypes = match prototypes {
+            Some(p) if Arc::ptr_eq(&p.source, &scene.prototypes) => p,
+            _ => {
+                own = Prototypes::build(&scene.prototypes);
+                &own
+            }
+        };
+        place_instances(scene, &prototypes.built, &mut geometry);
+    }
+    geometry
+}
+
+/// Every render-time primitive of `scene`, its instances' prototypes built: what
+/// [`Bvh::new`] builds the scene's tree over (for a caller that times or
+/// inspects the build; [`prepare`] does it all).
+pub fn scene_geometry(scene: &Scene) -> Geometry {
+    geometry_of(scene, scene.shutter_interval(), None)
 }
 
 /// The render-time scene of `bvh`, summarised by `info`, as `opts` choose.

@@ -200,6 +200,7 @@ pub(in crate::accel) trait Block {
             t: t[lane],
             u: u[lane],
             v: v[lane],
+            part: 0,
         };
         Some((hit, self.prims()[lane]))
     }

@@ -15,6 +15,7 @@ use proptest::prelude::*;
 mod brute;
 mod edges;
 mod graft;
+mod instance;
 mod packets8;
 mod structures;
 mod watertight;

@@ -3,7 +3,6 @@
 
 use std::cell::Cell;
 
-use super::single::STACK;
 use super::wide::{Kernels, Portable, RayBoxes};
 use crate::accel::bvh::Bvh;
 use crate::accel::leaf::pack::{leaf_kinds, marked, with_kinds, CONE4_LEAF, SPHERE4_LEAF};
@@ -76,7 +75,7 @@ impl Bvh {
             hint_bits::PRIMITIVE => self
                 .primitives
                 .get(index)
-                .is_some_and(|p| p.intersect(ray, t_max, &self.data).is_some()),
+                .is_some_and(|p| p.occludes(ray, t_max, &self.data)),
             hint_bits::TRI4 => self.tri4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
             hint_bits::SPHERE4 => self.sphere4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
             _ => self.cone4.get(index).is_some_and(|b| b.any_hit(ray4, t_max)),
@@ -127,9 +126,7 @@ impl Bvh {
         }
         count!(PRIMS, count);
         let leaf = &self.primitives[first..first + count];
-        let k = leaf
-            .iter()
-            .position(|p| p.intersect(ray, t_max, &self.data).is_some())?;
+        let k = leaf.iter().position(|p| p.occludes(ray, t_max, &self.data))?;
         Some(hint_bits::PRIMITIVE | (first + k) as u32)
     }
 
@@ -160,10 +157,7 @@ impl Bvh {
         let unbounded = &self.primitives[self.bounded..];
         // (Tested for emptiness first: see `Bvh::unbounded_closest`.)
         if !unbounded.is_empty() {
-            if let Some(i) = unbounded
-                .iter()
-                .position(|p| p.intersect(ray, t_max, &self.data).is_some())
-            {
+            if let Some(i) = unbounded.iter().position(|p| p.occludes(ray, t_max, &self.data)) {
                 return Some(hint_bits::PRIMITIVE | (self.bounded + i) as u32);
             }
         }
@@ -189,7 +183,7 @@ impl Bvh {
         ray4: &Ray4,
         t_max: f32,
     ) -> Option<u32> {
-        STACK.with_borrow_mut(|buffer| {
+        self.stack_key().with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;
             let mut index = start;

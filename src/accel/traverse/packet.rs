@@ -459,6 +459,7 @@ impl Bvh {
                                 t: t[k],
                                 u: u[k],
                                 v: v[k],
+                                part: 0,
                             },
                             prim,
                         );

@@ -93,10 +93,7 @@ impl Bvh {
         }
         for k in lanes(active) {
             let ray = q.rays.ray(k);
-            if unbounded
-                .iter()
-                .any(|p| p.intersect(&ray, q.t_max[k], &self.data).is_some())
-            {
+            if unbounded.iter().any(|p| p.occludes(&ray, q.t_max[k], &self.data)) {
                 q.blocked |= 1 << k;
             }
         }

@@ -3,6 +3,7 @@
 //! boxes are entered.
 
 use std::cell::RefCell;
+use std::thread::LocalKey;
 
 use super::nearest::Nearest;
 use super::wide::{Kernels, Portable, RayBoxes, WIDTH};
@@ -14,9 +15,12 @@ use crate::geometry::Hit;
 use crate::math::{lanes, Ray};
 
 thread_local! {
-    /// Each thread's traversal stack of (wide node, entry distance), reused across
-    /// queries so that no query pays for allocating or clearing one.
-    pub(in crate::accel) static STACK: RefCell<Vec<(u32, f32)>> = RefCell::new(Vec::with_capacity(256));
+    /// Each thread's traversal stacks of (wide node, entry distance), reused across
+    /// queries so that no query pays for allocating or clearing one: one for a
+    /// scene's trees, one for the prototypes its instances place, whose queries run
+    /// inside the scene's (`Bvh::level`).
+    static STACK: RefCell<Vec<(u32, f32)>> = RefCell::new(Vec::with_capacity(256));
+    static PROTOTYPE_STACK: RefCell<Vec<(u32, f32)>> = RefCell::new(Vec::with_capacity(256));
 }
 
 /// Insertion sort by decreasing distance (at most `WIDTH` entries).
@@ -96,7 +100,7 @@ impl Bvh {
         nearest: &mut Nearest,
         tally: &mut T,
     ) {
-        STACK.with_borrow_mut(|buffer| {
+        self.stack_key().with_borrow_mut(|buffer| {
             let stack = self.stack_of(buffer);
             let mut sp = 0usize;
             let mut index = start;
@@ -255,6 +259,7 @@ impl Bvh {
                     t: t[lane],
                     u: u[lane],
                     v: v[lane],
+                    part: 0,
                 };
                 nearest.offer(hit, pair[lane / LANES].prim[lane % LANES]);
             }
@@ -272,5 +277,14 @@ impl Bvh {
             buffer.resize(need, (0, 0.0));
         }
         buffer
+    }
+
+    /// This thread's stack for the tree's level.
+    #[inline(always)]
+    pub(in crate::accel) fn stack_key(&self) -> &'static LocalKey<RefCell<Vec<(u32, f32)>>> {
+        match self.level {
+            0 => &STACK,
+            _ => &PROTOTYPE_STACK,
+        }
     }
 }

@@ -121,6 +121,12 @@ impl Node8 {
         Aabb::new(corner(MIN), corner(MAX))
     }
 
+    /// The lanes in use (a child node or a leaf; empty lanes hold `u32::MAX` and no
+    /// primitives).
+    pub fn used_lanes(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..WIDTH).filter(|&lane| self.child[lane] != u32::MAX || self.count[lane] != 0)
+    }
+
     /// The lanes holding leaves, as bits.
     #[inline(always)]
     pub fn leaf_lanes(&self) -> u32 {

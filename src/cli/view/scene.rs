@@ -19,7 +19,7 @@ use super::protocol::{AnimationMsg, CameraMsg, Counts};
 use crate::cli::limits::SceneLimitArgs;
 use crate::cli::load::{decoded_assets, load_scene_cancellable, Need};
 use crate::cli::CliError;
-use nffrt::aff::{AffError, AffScene, FramePart};
+use nffrt::aff::{AffError, AffScene, FramePart, MeshMode};
 use nffrt::load::Assets;
 use nffrt::prepare::{prepare, prepare_frame, prepare_with, FixedPart, PrepareOptions, RenderScene};
 use nffrt::scene::Scene;
@@ -157,7 +157,9 @@ impl Loaded {
         let time = aff.time_of_frame(n);
         let failed = |e| format!("frame {n} (time {time}): {e}");
         let fixed = self.fixed_part(aff, time, &asked).map_err(failed)?;
-        let moving = aff.flatten_part(time, FramePart::Moving).map_err(failed)?;
+        let moving = aff
+            .flatten_part(time, FramePart::Moving, MeshMode::Instanced)
+            .map_err(failed)?;
         // The frame it replaces lends its arrays unless a render still holds it.
         let spare = kept
             .take()
@@ -184,7 +186,7 @@ impl Loaded {
                 return Ok(fixed.clone());
             }
         }
-        let scene = aff.flatten_part(time, FramePart::Fixed)?;
+        let scene = aff.flatten_part(time, FramePart::Fixed, MeshMode::Instanced)?;
         let fixed = Arc::new(FixedPart::new(scene, asked));
         *kept = Some((*asked, fixed.clone()));
         Ok(fixed)
