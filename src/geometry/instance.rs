@@ -101,9 +101,13 @@ impl Placement {
     }
 
     /// Phase one: the nearest hit with `0 < t < t_max`, the prototype's primitive met
-    /// in [`Hit::part`].
+    /// in [`Hit::part`]. A ray that misses the placed box (a leaf holds several
+    /// instances) is turned away before it is carried anywhere.
     #[inline(never)]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if !self.bounds.may_hit(ray, t_max) {
+            return None;
+        }
         let (hit, part) = self.prototype.closest_hit(&self.local_ray(ray), t_max)?;
         Some(Hit { part, ..hit })
     }
@@ -111,7 +115,7 @@ impl Placement {
     /// True if the placed prototype lies along `ray` with `0 < t < t_max`.
     #[inline(never)]
     pub fn occludes(&self, ray: &Ray, t_max: f32) -> bool {
-        self.prototype.occluded(&self.local_ray(ray), t_max)
+        self.bounds.may_hit(ray, t_max) && self.prototype.occluded(&self.local_ray(ray), t_max)
     }
 
     /// Phase two of a hit returned by [`Placement::intersect`]: the prototype's

@@ -7,7 +7,7 @@ pub mod mat3;
 mod ray;
 mod vec3;
 
-pub use aabb::Aabb;
+pub use aabb::{Aabb, FAR_SCALE};
 pub(crate) use lanes::lanes;
 pub use ray::{safe_recip, Ray, TINY_DIR};
 pub use vec3::Vec3;

@@ -48,14 +48,7 @@ pub(in crate::accel) const EMPTY: Node8 = Node8 {
     count: [0; WIDTH],
 };
 
-/// The factor a box's computed exit distance is stretched by before it is compared
-/// with the entry, so that rounding never closes a box the ray enters. The computed
-/// entry and exit each lie within three roundings of the exact ones, and a ray
-/// through a box's edge or corner (where the two are equal, as on the shared edges
-/// of a mesh whose triangles bound the boxes) could otherwise miss the box, and the
-/// triangle in it: a hole in the mesh (Ize 2013, "Robust BVH ray traversal"; 2^-20
-/// is 16 units in the last place, above the 6 needed).
-pub(in crate::accel) const FAR_SCALE: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
+pub(in crate::accel) use crate::math::FAR_SCALE;
 
 /// A ray prepared for the wide slab test.
 #[derive(Clone, Copy)]
