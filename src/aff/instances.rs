@@ -93,6 +93,8 @@ impl AffScene {
                 }
                 let material = self.mesh_material(geometry, object.material, &textured);
                 let prototype = *index.entry((g, material)).or_insert_with(|| {
+                    // With the textures named, the mesh keeps its texture
+                    // coordinates (`place_mesh`); the prototype needs no more of them.
                     let mut scene = Scene {
                         dialect: Dialect::Aff,
                         textures: self.textures.iter().map(|t| t.image.clone()).collect(),

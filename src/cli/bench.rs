@@ -137,8 +137,8 @@ pub fn run(args: BenchArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::io(format!("cannot start threads: {e}")))?;
 
     // Whole builds (the scene's conversion to primitives, instances' prototypes
-    // built, then `Bvh::new`), and
-    // `Bvh::new` alone: the part a peer given triangles in its buffers also does.
+    // built, then `Bvh::new`), and `Bvh::new` alone: the part a peer given
+    // triangles in its buffers also does.
     let (mut builds, mut bvh_builds) = (Vec::new(), Vec::new());
     let mut bvh = None;
     for _ in 0..args.repeat.max(3) {

@@ -41,8 +41,6 @@ pub struct Placement {
     /// normals out of the prototype's space, the geometric normal's side following
     /// the placed vertices' winding as a flattened copy's would.
     normals: [[f32; 3]; 3],
-    /// The sign of `to_world`'s determinant.
-    sign: f32,
     /// The placed prototype's box.
     bounds: Aabb,
 }
@@ -77,7 +75,6 @@ impl Placement {
             to_local: narrow(to_local),
             to_world: narrow(to_world),
             normals: cof.map(|r| r.map(|v| (v / largest) as f32)),
-            sign: det.signum() as f32,
             bounds,
         };
         let finite = placement.to_local.iter().flatten().all(|v| v.is_finite())
@@ -125,8 +122,8 @@ impl Placement {
         let m = &self.to_world;
         let p = local.point;
         let point = Vec3::from_array(m.map(|r| r[0] * p.x + r[1] * p.y + r[2] * p.z + r[3]));
-        let normal = self.normal(local.normal, 1.0);
-        let shading = self.normal(local.shading_normal, self.sign);
+        let normal = self.normal(local.normal);
+        let shading = self.normal(local.shading_normal);
         let shading_normal = if shading.dot(normal) < 0.0 {
             -shading
         } else {
@@ -144,10 +141,10 @@ impl Placement {
         self.prototype.texcoords(hit.part, hit)
     }
 
-    /// Normal `n` out of the prototype's space, times `sign`, of unit length.
+    /// Normal `n` out of the prototype's space, of unit length.
     #[inline]
-    fn normal(&self, n: Vec3, sign: f32) -> Vec3 {
+    fn normal(&self, n: Vec3) -> Vec3 {
         let image = Vec3::from_array(self.normals.map(|r| r[0] * n.x + r[1] * n.y + r[2] * n.z));
-        image.normalize() * sign
+        image.normalize()
     }
 }
